@@ -1,0 +1,56 @@
+// Public contract of the subdivision engine (DESIGN.md sections 2-3), used by the
+// renderer, the colour fit and the exporters. The engine module owns the implementation
+// and may add declarations; the names below are what other modules rely on.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "sdvi/image.h"
+#include "sdvi/status.h"
+
+namespace sdvi {
+
+enum class VertexTag : uint8_t { kSmooth = 0, kCrease = 1, kCorner = 2 };
+
+// Sparse linear combinations of control vertices (CSR). Row i is a fine vertex (or its
+// limit point); its weights sum to 1.
+struct StencilTable {
+  uint32_t num_control = 0;        // number of control vertices the rows refer to
+  std::vector<uint32_t> offsets;   // rows + 1 entries; row i = [offsets[i], offsets[i+1])
+  std::vector<uint32_t> indices;   // control vertex of each weight
+  std::vector<float> weights;
+
+  size_t rows() const { return offsets.empty() ? 0 : offsets.size() - 1; }
+  // out[i * out_stride + c] = sum_k weights[k] * in[indices[k] * in_stride + c], c < dims.
+  void Apply(const float* in, size_t in_stride, float* out, size_t out_stride, int dims) const;
+};
+
+struct LimitSurfaceOptions {
+  int levels = 2;          // subdivision level r (0 = the control mesh itself)
+  bool to_limit = true;    // push fine vertices to their limit positions; false keeps
+                           // level-r positions (with levels = 0: piecewise-linear control mesh)
+  // When non-empty, only fine triangles descending from these control triangles are
+  // produced (region rendering); stencils still refer to all control vertices.
+  std::vector<uint32_t> control_triangles;
+};
+
+// The fine mesh at level r, as stencils over the control vertices: built once per
+// topology, then evaluated for any control positions/colours.
+struct LimitSurface {
+  int levels = 0;
+  std::vector<Triangle> triangles;          // fine triangles, orientation of their parent
+  std::vector<uint32_t> parent_triangle;    // control triangle containing each fine triangle
+  std::vector<VertexTag> vertex_tags;       // tag of each fine vertex
+  std::vector<Edge> crease_edges;           // fine crease edges (boundary included)
+  StencilTable stencils;                    // one row per fine vertex (limit or level-r point)
+};
+
+// Validates the topology of image (manifold, no degenerate/duplicate triangles, crease
+// edges are mesh edges, indices in range) and builds its limit surface.
+StatusOr<LimitSurface> BuildLimitSurface(const Image& image, const LimitSurfaceOptions& options);
+
+// The fine vertices (x, y, R, G, B) of surface for the given control vertices.
+std::vector<Vertex> EvaluateSurface(const LimitSurface& surface, const std::vector<Vertex>& control);
+
+}  // namespace sdvi

@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Installs every package sdvi needs (Debian 12, as root, no prompts), then configures
+# and builds Release into build/. Idempotent: re-running only rebuilds what changed.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+PACKAGES=(build-essential cmake ninja-build pkg-config
+  libflatbuffers-dev flatbuffers-compiler libdraco-dev libtinygltf-dev libopenexr-dev
+  libopencv-dev libcgal-dev libeigen3-dev catch2 nlohmann-json3-dev)
+# Tools used by tests and benchmarks: exrheader (openexr), cjpeg (libjpeg-turbo-progs),
+# cwebp (webp), clang for the fuzz target, OpenSubdiv as a benchmark peer, node/npm for
+# the glTF validator and the three.js viewer test, chromium for the viewer test.
+PACKAGES+=(openexr libjpeg-turbo-progs webp libosd-dev nodejs npm chromium)
+if [ -n "${SDVI_EXTRA_PACKAGES:-}" ]; then PACKAGES+=(${SDVI_EXTRA_PACKAGES}); fi
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" </dev/null
+fi
+
+# npm tools for the glTF tests (validator, three.js), installed locally and offline-safe.
+if [ -f scripts/npm/package.json ] && [ ! -d scripts/npm/node_modules ]; then
+  (cd scripts/npm && npm install --no-audit --no-fund --silent </dev/null) || \
+    echo "warning: npm install failed; glTF viewer/validator tests will be skipped" >&2
+fi
+
+BUILD_DIR=${BUILD_DIR:-build}
+cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release
+cmake --build "$BUILD_DIR" -j"$(nproc)"
+echo "built: $BUILD_DIR/cli/sdvi"
