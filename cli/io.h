@@ -1,0 +1,17 @@
+// Reading and writing .sdvi files for the CLI: every reader reads both payloads
+// (raw and Draco-compressed).
+#pragma once
+
+#include <string>
+
+#include "sdvi/image.h"
+#include "sdvi/status.h"
+
+namespace sdvi::cli {
+
+// Reads a .sdvi file whatever its payload.
+StatusOr<Image> LoadSdvi(const std::string& path);
+// Writes image as a raw-payload .sdvi file, atomically.
+Status SaveSdvi(const std::string& path, const Image& image);
+
+}  // namespace sdvi::cli

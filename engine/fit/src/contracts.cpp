@@ -1,0 +1,4 @@
+// Keeps sdvi_fit a valid library while its modules land; the fit owners remove it.
+namespace sdvi {
+void FitModulePresent() {}
+}  // namespace sdvi
