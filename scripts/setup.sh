@@ -10,7 +10,9 @@ PACKAGES=(build-essential cmake ninja-build pkg-config
 # Tools used by tests and benchmarks: exrheader (openexr), cjpeg (libjpeg-turbo-progs),
 # cwebp (webp), clang for the fuzz target, OpenSubdiv as a benchmark peer, node/npm for
 # the glTF validator and the three.js viewer test, chromium for the viewer test.
-PACKAGES+=(openexr libjpeg-turbo-progs webp libosd-dev nodejs npm chromium)
+PACKAGES+=(openexr libjpeg-turbo-progs webp libosd-dev clang libclang-rt-14-dev chromium)
+# Node.js: any install will do (the machine may carry a newer one than Debian's).
+command -v npm >/dev/null 2>&1 || PACKAGES+=(nodejs npm)
 if [ -n "${SDVI_EXTRA_PACKAGES:-}" ]; then PACKAGES+=(${SDVI_EXTRA_PACKAGES}); fi
 
 missing=()
