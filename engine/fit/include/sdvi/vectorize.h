@@ -1,0 +1,111 @@
+// Vectorizing a raster (paper section IV, DESIGN.md section 6): curvilinear features,
+// B-spline fitting, feature pairs, constrained Delaunay triangulation (features.h), then the
+// colour fit (color_fit.h) and the refinement loop below.
+//
+// Refinement (DESIGN.md 6.6). After each fit the per-pixel error e(p) = sum over R, G, B of
+// (I(p) - reconstruction(p))^2 is averaged over a small Gaussian window (sigma
+// error_blur_sigma px) so that single noisy pixels do not attract vertices. Pixels whose
+// averaged RMS error exceeds error_threshold are candidates; they are visited in order of
+// decreasing error (ties by pixel index) and a candidate becomes a new interior sample when
+// it lies farther than the current spacing from every control vertex and from every
+// sample chosen before it. The spacing is spacing_factor * sqrt(domain pixels / target
+// vertex count), floored at min_spacing. The new samples are added, the domain
+// re-triangulated (BuildControlMesh) and the colours re-fitted. The loop stops when the
+// PSNR reaches target_psnr, when the triangle budget is spent, after `iterations` rounds,
+// or when no candidate is left.
+//
+// Budget. max_triangles (when > 0) is a hard cap: a round that would exceed it is redone
+// with fewer (the worst-error) samples. Without it the budget is the vertex count
+// domain pixels / compression_ratio, i.e. about twice as many triangles.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "sdvi/color_fit.h"
+#include "sdvi/features.h"
+#include "sdvi/image.h"
+#include "sdvi/raster.h"
+#include "sdvi/status.h"
+
+namespace sdvi {
+
+class Progress;
+
+struct VectorizeOptions {
+  double target_psnr = 0;          // dB; 0 = no PSNR target
+  int max_triangles = 0;           // hard triangle cap; 0 = from compression_ratio
+  double compression_ratio = 64;   // pixels per vertex when max_triangles is 0
+  int iterations = 8;              // refinement rounds at most (0 = initial fit only)
+  // Refinement constants (header comment).
+  double error_threshold = 2.0;    // RMS over R, G, B, 8-bit units
+  double error_blur_sigma = 1.0;   // px
+  double spacing_factor = 0.5;
+  double min_spacing = 2.0;        // px
+  double initial_fraction = 0.15;  // share of the vertex budget placed as the initial grid
+  // Features of at most this share of the vertex budget are kept (the longest first).
+  double max_feature_fraction = 0.5;
+  FeatureOptions features;
+  ControlMeshOptions mesh;
+  ColorFitOptions fit;
+  int threads = 1;
+  Progress* progress = nullptr;    // optional terminal progress (not owned)
+};
+
+// Seconds per phase, summed over iterations.
+struct VectorizeTimings {
+  double load = 0;          // filled by callers that load the file
+  double features = 0;      // DetectFeatures
+  double triangulate = 0;   // BuildControlMesh
+  double surface = 0;       // BuildLimitSurface + EvaluateSurface (inside the fit)
+  double coverage = 0;      // MapPixels (inside the fit)
+  double assemble = 0;      // normal equations (inside the fit)
+  double solve = 0;         // sparse factorisation + solve
+  double refine = 0;        // error map and sample selection
+  double metrics = 0;       // final render + CompareImages
+  double total = 0;
+};
+
+struct VectorizeIteration {
+  uint32_t vertices = 0, triangles = 0;
+  uint32_t added_samples = 0;  // samples added before this fit
+  double psnr = 0;             // of the fit's reconstruction
+};
+
+// The paper's Table I fields for one result.
+struct VectorizeReport {
+  int iterations = 0;              // refinement rounds done
+  uint32_t vertices = 0, triangles = 0;
+  uint64_t paper_size = 0;         // 20 V + 6 T + 8 bytes
+  uint64_t pixels = 0;             // domain pixels
+  double compression_ratio = 0;    // pixels / vertices
+  double psnr = 0, mssim = 0, mean_error = 0;  // of Render() vs the input (CompareImages)
+  uint32_t feature_curves = 0;     // curves used (after the budget filter)
+  VectorizeTimings seconds;
+  std::vector<VectorizeIteration> history;
+};
+
+struct VectorizeResult {
+  Image image;                        // the fitted sdvi image
+  VectorizeReport report;
+  std::vector<FeatureCurve> features; // the curves used
+  Raster reconstruction;              // Render() of image at the identity viewport (RGBA)
+};
+
+// Vectorizes raster (grey / RGB, with alpha or a mask for object images: see FitColors for
+// the domain rule). Deterministic: equal inputs and options give equal images.
+// Errors: kEmptyInput, kInvalidArgument (options), errors of the phases it runs.
+StatusOr<VectorizeResult> Vectorize(const Raster& raster, const Raster* mask,
+                                    const VectorizeOptions& options);
+
+// A per-pixel error picture for people (paper Fig. 10): |difference| summed over R, G, B,
+// amplified 4x, drawn black (exact) to white; pixels outside the domain are mid grey.
+Raster ErrorImage(const Raster& reconstruction, const Raster& reference);
+
+// The built-in sample image (`sdvi sample`): smooth gradients, a sharp and a blurred
+// curved edge, a corner, RGB 0..255. Deterministic.
+Raster MakeSampleImage(int width, int height);
+
+}  // namespace sdvi
