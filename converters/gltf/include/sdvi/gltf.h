@@ -1,0 +1,77 @@
+// glTF 2.0 export of an sdvi image for viewers (spec/GLTF.md has the full mapping).
+//
+// The limit surface at level r (DESIGN.md sections 3-4) becomes one indexed triangle mesh:
+//   POSITION  (x, H - y, 0): 1 glTF unit = 1 source pixel, origin at the image's
+//             bottom-left corner, +X right, +Y up; the image is upright seen from +Z and
+//             every triangle is counter-clockwise seen from +Z.
+//   COLOR_0   float RGB in linear light (the sRGB transfer function decoded from the
+//             0..255 sRGB scale of sdvi::Image, clamped to 0..1).
+//   material  KHR_materials_unlit (base colour white, so the vertex colour is the colour).
+// Object images need nothing special: the mesh is the domain, nothing is drawn outside it.
+// asset.extras.sdvi carries the source width/height, the level and the unit.
+//
+// Options: --draco compresses the surface with KHR_draco_mesh_compression (required
+// extension, no uncompressed fallback); --control-mesh adds a second node with the
+// control mesh (triangles with control colours + the crease edges, boundary included,
+// as a LINES primitive) placed beside the surface.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "sdvi/image.h"
+#include "sdvi/status.h"
+
+namespace sdvi {
+
+enum class GltfContainer {
+  kBinary,  // .glb: JSON chunk + one BIN chunk
+  kText,    // .gltf: JSON with the buffer embedded as a base64 data: URI
+};
+
+struct GltfExportOptions {
+  int levels = -1;           // subdivision level r in [0, kMaxGltfLevels]; -1 = DefaultGltfLevels
+  bool draco = false;        // KHR_draco_mesh_compression for the surface mesh
+  int position_bits = 14;    // Draco quantization bits of POSITION, 1..30
+  int color_bits = 12;       // Draco quantization bits of COLOR_0 (linear light), 1..30
+  int draco_speed = 3;       // Draco encoder/decoder speed 0 (smallest) .. 10 (fastest)
+  bool control_mesh = false; // add the control mesh node (triangles + crease LINES)
+  GltfContainer container = GltfContainer::kBinary;
+  std::string copyright;     // asset.copyright; empty = metadata "copyright", else "unspecified"
+};
+
+// The largest level accepted, and the fine-triangle budget of an explicit level.
+inline constexpr int kMaxGltfLevels = 8;
+inline constexpr uint64_t kMaxGltfFineTriangles = uint64_t(1) << 25;
+
+// What an export produced.
+struct GltfExport {
+  std::vector<uint8_t> bytes;     // the whole .glb or .gltf file
+  int levels = 0;                 // the level r used
+  uint32_t vertices = 0;          // surface vertices (after Draco decoding when compressed)
+  uint32_t triangles = 0;         // surface triangles
+  uint64_t draco_bytes = 0;       // size of the Draco buffer view (0 without --draco)
+};
+
+// The level r whose fine triangles average at most ~2 source pixels in area, capped at
+// 5 and at ~2M fine triangles; 0 for an empty mesh.
+int DefaultGltfLevels(const Image& image);
+
+// The sRGB transfer function decoded: 0..1 sRGB -> 0..1 linear light (IEC 61966-2-1).
+float SrgbToLinear(float srgb);
+
+// Builds the glTF file in memory. kEmptyInput without triangles, kInvalidArgument for bad
+// options, the engine's code for topology it cannot subdivide, kLimitExceeded past the
+// fine-triangle budget, kEncodeFailed when Draco or tinygltf fail.
+StatusOr<GltfExport> EncodeGltf(const Image& image, const GltfExportOptions& options);
+
+// The container a path asks for: ".glb" -> kBinary, ".gltf" -> kText, else kInvalidArgument.
+StatusOr<GltfContainer> GltfContainerForPath(const std::string& path);
+
+// Encodes image (container from path's extension, overriding options.container) and
+// writes it atomically to path; nothing is left behind on failure.
+StatusOr<GltfExport> WriteGltf(const std::string& path, const Image& image,
+                               GltfExportOptions options);
+
+}  // namespace sdvi
