@@ -33,8 +33,18 @@ struct LimitSurfaceOptions {
   // When non-empty, only fine triangles descending from these control triangles are
   // produced (region rendering); stencils still refer to all control vertices.
   std::vector<uint32_t> control_triangles;
+  // Refuses (kLimitExceeded) to build more fine triangles than this.
+  uint64_t max_fine_triangles = uint64_t{1} << 25;
 };
 
+// Levels accepted by BuildLimitSurface and RefineImage: 0 .. kMaxLevels.
+inline constexpr int kMaxLevels = 6;
+
+// Fine-level numbering (tagged_mesh.h): the first control-vertex-count fine vertices
+// are the control vertices' descendants, in order (for a region: those it uses, in
+// increasing order); a fine triangle f of the whole mesh descends from control
+// triangle f >> 2r.
+//
 // The fine mesh at level r, as stencils over the control vertices: built once per
 // topology, then evaluated for any control positions/colours.
 struct LimitSurface {
@@ -47,10 +57,28 @@ struct LimitSurface {
 };
 
 // Validates the topology of image (manifold, no degenerate/duplicate triangles, crease
-// edges are mesh edges, indices in range) and builds its limit surface.
+// edges are mesh edges, indices in range) and builds its limit surface. Errors:
+// kEmptyInput, kIndexOutOfRange, kDegenerateTriangle, kDuplicateTriangle,
+// kNonManifoldEdge, kCreaseNotAnEdge, kNonFinite (a NaN/inf control coordinate),
+// kInvalidArgument (levels outside 0..kMaxLevels), kLimitExceeded (max_fine_triangles).
 StatusOr<LimitSurface> BuildLimitSurface(const Image& image, const LimitSurfaceOptions& options);
 
-// The fine vertices (x, y, R, G, B) of surface for the given control vertices.
+// The fine vertices (x, y, R, G, B) of surface for the given control vertices; empty when
+// control has fewer than surface.stencils.num_control vertices.
 std::vector<Vertex> EvaluateSurface(const LimitSurface& surface, const std::vector<Vertex>& control);
+
+// Direct (non-stencil) refinement: the same fine mesh as BuildLimitSurface with the same
+// options and numbering, computed by applying the masks level by level to the control
+// values in double precision. For tests, PLY export and one-off evaluation; repeated
+// evaluation of one topology is cheaper through the stencils.
+struct RefinedMesh {
+  int levels = 0;
+  std::vector<Vertex> vertices;             // fine vertices (limit or level-r points)
+  std::vector<Triangle> triangles;          // fine triangles
+  std::vector<uint32_t> parent_triangle;    // control triangle containing each
+  std::vector<VertexTag> vertex_tags;       // tag of each fine vertex
+  std::vector<Edge> crease_edges;           // fine crease edges (boundary included)
+};
+StatusOr<RefinedMesh> RefineImage(const Image& image, const LimitSurfaceOptions& options);
 
 }  // namespace sdvi

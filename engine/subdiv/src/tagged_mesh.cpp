@@ -1,0 +1,344 @@
+#include "sdvi/tagged_mesh.h"
+
+#include <algorithm>
+#include <string>
+#include <utility>
+
+#include "sdvi/subdiv_rules.h"
+
+namespace sdvi {
+namespace {
+
+std::string TriangleName(size_t t, const Triangle& tri) {
+  return "triangle " + std::to_string(t) + " (" + std::to_string(tri.v[0]) + ", " +
+         std::to_string(tri.v[1]) + ", " + std::to_string(tri.v[2]) + ")";
+}
+
+std::string EdgeName(const Edge& e) {
+  return "edge (" + std::to_string(e.a) + ", " + std::to_string(e.b) + ")";
+}
+
+uint64_t EdgeKey(uint32_t a, uint32_t b) {
+  if (a > b) std::swap(a, b);
+  return (uint64_t{a} << 32) | b;
+}
+
+// Appends one weighted entry to the row being built (weights of exactly 0 are dropped).
+void Push(SparseRows& rows, uint32_t index, double weight) {
+  if (weight == 0) return;
+  rows.indices.push_back(index);
+  rows.weights.push_back(weight);
+}
+void EndRow(SparseRows& rows) { rows.offsets.push_back(static_cast<uint32_t>(rows.indices.size())); }
+
+// The two crease neighbours of v, or false when v has not exactly two (only possible at
+// the cut of a sub-mesh, where values are not used).
+bool CreaseNeighbours(const TaggedMesh& mesh, uint32_t v, uint32_t* c0, uint32_t* c1) {
+  auto nbrs = mesh.neighbours(v);
+  auto edges = mesh.neighbour_edges(v);
+  int found = 0;
+  for (size_t i = 0; i < nbrs.size(); ++i) {
+    if (!mesh.is_crease(edges[i])) continue;
+    if (found == 0) *c0 = nbrs[i];
+    if (found == 1) *c1 = nbrs[i];
+    ++found;
+  }
+  return found == 2;
+}
+
+template <typename SmoothRule, typename CreaseRule>
+void VertexMasks(const TaggedMesh& mesh, SparseRows& rows, SmoothRule smooth_rule,
+                 CreaseRule crease_rule) {
+  for (uint32_t v = 0; v < mesh.num_vertices(); ++v) {
+    const VertexTag tag = mesh.tag(v);
+    uint32_t c0 = 0, c1 = 0;
+    auto nbrs = mesh.neighbours(v);
+    if (tag == VertexTag::kCrease && CreaseNeighbours(mesh, v, &c0, &c1)) {
+      const rules::CreaseVertexMask m = crease_rule(mesh.is_corner(c0), mesh.is_corner(c1));
+      Push(rows, c0, m.c0);
+      Push(rows, v, m.self);
+      Push(rows, c1, m.c1);
+    } else if (tag == VertexTag::kSmooth && nbrs.size() >= 3) {
+      const rules::SmoothVertexMask m = smooth_rule(static_cast<int>(nbrs.size()));
+      Push(rows, v, m.self);
+      for (uint32_t n : nbrs) Push(rows, n, m.neighbour);
+    } else {
+      Push(rows, v, rules::kCornerVertexWeight);
+    }
+    EndRow(rows);
+  }
+}
+
+uint32_t OppositeVertex(const Triangle& tri, const Edge& e) {
+  for (uint32_t v : tri.v)
+    if (v != e.a && v != e.b) return v;
+  return e.a;
+}
+
+}  // namespace
+
+StatusOr<TaggedMesh> TaggedMesh::FromImage(const Image& image) {
+  return Build(static_cast<uint32_t>(image.vertices.size()), image.triangles, image.crease_edges,
+               image.corners);
+}
+
+StatusOr<TaggedMesh> TaggedMesh::Build(uint32_t num_vertices, std::span<const Triangle> triangles,
+                                       std::span<const Edge> crease_edges,
+                                       std::span<const uint32_t> corners) {
+  if (num_vertices == 0) return Status(StatusCode::kEmptyInput, "control mesh has no vertices");
+  if (triangles.empty()) return Status(StatusCode::kEmptyInput, "control mesh has no triangles");
+  for (size_t t = 0; t < triangles.size(); ++t) {
+    const Triangle& tri = triangles[t];
+    for (uint32_t v : tri.v)
+      if (v >= num_vertices)
+        return Status(StatusCode::kIndexOutOfRange,
+                      TriangleName(t, tri) + " refers to vertex " + std::to_string(v) +
+                          " but the mesh has " + std::to_string(num_vertices) + " vertices");
+    if (tri.v[0] == tri.v[1] || tri.v[1] == tri.v[2] || tri.v[2] == tri.v[0])
+      return Status(StatusCode::kDegenerateTriangle, TriangleName(t, tri) + " repeats a vertex");
+  }
+  // Duplicate triangles: the same vertex set in any order or orientation.
+  {
+    std::vector<std::pair<std::array<uint32_t, 3>, uint32_t>> keys(triangles.size());
+    for (size_t t = 0; t < triangles.size(); ++t) {
+      std::array<uint32_t, 3> k = triangles[t].v;
+      std::sort(k.begin(), k.end());
+      keys[t] = {k, static_cast<uint32_t>(t)};
+    }
+    std::sort(keys.begin(), keys.end());
+    for (size_t i = 1; i < keys.size(); ++i)
+      if (keys[i].first == keys[i - 1].first)
+        return Status(StatusCode::kDuplicateTriangle,
+                      TriangleName(keys[i].second, triangles[keys[i].second]) +
+                          " has the same vertices as triangle " + std::to_string(keys[i - 1].second));
+  }
+  for (uint32_t c : corners)
+    if (c >= num_vertices)
+      return Status(StatusCode::kIndexOutOfRange,
+                    "corner " + std::to_string(c) + " is not a vertex (the mesh has " +
+                        std::to_string(num_vertices) + ")");
+
+  TaggedMesh mesh;
+  mesh.num_vertices_ = num_vertices;
+  mesh.triangles_.assign(triangles.begin(), triangles.end());
+  SDVI_RETURN_IF_ERROR(mesh.BuildEdges());
+  mesh.edge_crease_.assign(mesh.edges_.size(), 0);
+  for (const Edge& given : crease_edges) {
+    if (given.a >= num_vertices || given.b >= num_vertices)
+      return Status(StatusCode::kIndexOutOfRange,
+                    "crease " + EdgeName(given) + " refers to a vertex >= " +
+                        std::to_string(num_vertices));
+    const Edge e = Edge::Of(given.a, given.b);
+    auto it = std::lower_bound(mesh.edges_.begin(), mesh.edges_.end(), e);
+    if (e.a == e.b || it == mesh.edges_.end() || *it != e)
+      return Status(StatusCode::kCreaseNotAnEdge,
+                    "crease " + EdgeName(given) + " is not an edge of any triangle");
+    mesh.edge_crease_[it - mesh.edges_.begin()] = 1;
+  }
+  for (size_t e = 0; e < mesh.edges_.size(); ++e)
+    if (mesh.edge_triangles_[e][1] == kNoIndex) mesh.edge_crease_[e] = 1;  // boundary
+  mesh.BuildNeighbours();
+  mesh.TagVertices(corners);
+  return mesh;
+}
+
+Status TaggedMesh::BuildEdges() {
+  const size_t num_tris = triangles_.size();
+  std::vector<std::pair<uint64_t, uint32_t>> records(3 * num_tris);
+  for (size_t t = 0; t < num_tris; ++t)
+    for (int k = 0; k < 3; ++k)
+      records[3 * t + k] = {EdgeKey(triangles_[t].v[k], triangles_[t].v[(k + 1) % 3]),
+                            static_cast<uint32_t>(3 * t + k)};
+  std::sort(records.begin(), records.end());
+  edges_.clear();
+  edge_triangles_.clear();
+  triangle_edges_.assign(num_tris, {kNoIndex, kNoIndex, kNoIndex});
+  for (size_t i = 0; i < records.size();) {
+    size_t j = i;
+    while (j < records.size() && records[j].first == records[i].first) ++j;
+    const Edge e{static_cast<uint32_t>(records[i].first >> 32),
+                 static_cast<uint32_t>(records[i].first & 0xffffffffu)};
+    if (j - i > 2) {
+      std::string tris;
+      for (size_t k = i; k < j; ++k) tris += (k > i ? ", " : "") + std::to_string(records[k].second / 3);
+      return Status(StatusCode::kNonManifoldEdge,
+                    EdgeName(e) + " is shared by " + std::to_string(j - i) + " triangles (" + tris +
+                        "); at most two are allowed");
+    }
+    const uint32_t index = static_cast<uint32_t>(edges_.size());
+    edges_.push_back(e);
+    std::array<uint32_t, 2> tris{kNoIndex, kNoIndex};
+    for (size_t k = i; k < j; ++k) {
+      tris[k - i] = records[k].second / 3;
+      triangle_edges_[records[k].second / 3][records[k].second % 3] = index;
+    }
+    edge_triangles_.push_back(tris);
+    i = j;
+  }
+  return Status::Ok();
+}
+
+void TaggedMesh::BuildNeighbours() {
+  neighbour_offsets_.assign(size_t{num_vertices_} + 1, 0);
+  for (const Edge& e : edges_) {
+    ++neighbour_offsets_[e.a + 1];
+    ++neighbour_offsets_[e.b + 1];
+  }
+  for (uint32_t v = 0; v < num_vertices_; ++v) neighbour_offsets_[v + 1] += neighbour_offsets_[v];
+  neighbour_vertices_.resize(2 * edges_.size());
+  neighbour_edges_.resize(2 * edges_.size());
+  std::vector<uint32_t> fill(neighbour_offsets_.begin(), neighbour_offsets_.end() - 1);
+  for (uint32_t i = 0; i < edges_.size(); ++i) {
+    const Edge& e = edges_[i];
+    neighbour_vertices_[fill[e.a]] = e.b;
+    neighbour_edges_[fill[e.a]++] = i;
+    neighbour_vertices_[fill[e.b]] = e.a;
+    neighbour_edges_[fill[e.b]++] = i;
+  }
+}
+
+void TaggedMesh::TagVertices(std::span<const uint32_t> corners) {
+  vertex_tags_.assign(num_vertices_, VertexTag::kSmooth);
+  for (uint32_t v = 0; v < num_vertices_; ++v) {
+    int crease_degree = 0;
+    for (uint32_t e : neighbour_edges(v)) crease_degree += edge_crease_[e];
+    if (neighbours(v).empty() || crease_degree == 1 || crease_degree >= 3)
+      vertex_tags_[v] = VertexTag::kCorner;
+    else if (crease_degree == 2)
+      vertex_tags_[v] = VertexTag::kCrease;
+  }
+  for (uint32_t c : corners) vertex_tags_[c] = VertexTag::kCorner;
+}
+
+TaggedMesh TaggedMesh::Submesh(std::span<const uint32_t> triangles,
+                               std::vector<uint32_t>* vertex_map) const {
+  std::vector<uint32_t> globals;
+  globals.reserve(3 * triangles.size());
+  for (uint32_t t : triangles)
+    for (uint32_t v : triangles_[t].v) globals.push_back(v);
+  std::sort(globals.begin(), globals.end());
+  globals.erase(std::unique(globals.begin(), globals.end()), globals.end());
+  std::vector<uint32_t> local(num_vertices_, kNoIndex);
+  for (uint32_t i = 0; i < globals.size(); ++i) local[globals[i]] = i;
+
+  TaggedMesh sub;
+  sub.num_vertices_ = static_cast<uint32_t>(globals.size());
+  sub.triangles_.reserve(triangles.size());
+  for (uint32_t t : triangles) {
+    const Triangle& tri = triangles_[t];
+    sub.triangles_.push_back(Triangle{{local[tri.v[0]], local[tri.v[1]], local[tri.v[2]]}});
+  }
+  // A subset of a valid mesh's triangles is valid: BuildEdges cannot fail here.
+  (void)sub.BuildEdges();
+  sub.edge_crease_.resize(sub.edges_.size());
+  for (size_t e = 0; e < sub.edges_.size(); ++e) {
+    const uint32_t ga = globals[sub.edges_[e].a], gb = globals[sub.edges_[e].b];
+    auto nbrs = neighbours(ga);
+    auto edges = neighbour_edges(ga);
+    uint8_t crease = 0;
+    for (size_t i = 0; i < nbrs.size(); ++i)
+      if (nbrs[i] == gb) crease = edge_crease_[edges[i]];
+    sub.edge_crease_[e] = crease;
+  }
+  sub.BuildNeighbours();
+  sub.vertex_tags_.resize(globals.size());
+  for (uint32_t i = 0; i < globals.size(); ++i) sub.vertex_tags_[i] = vertex_tags_[globals[i]];
+  if (vertex_map) *vertex_map = std::move(globals);
+  return sub;
+}
+
+TaggedMesh TaggedMesh::Refine() const {
+  const uint32_t nv = num_vertices_;
+  const size_t ne = edges_.size(), nt = triangles_.size();
+  TaggedMesh child;
+  child.num_vertices_ = static_cast<uint32_t>(nv + ne);
+  child.triangles_.resize(4 * nt);
+  child.triangle_edges_.resize(4 * nt);
+  child.edges_.resize(2 * ne + 3 * nt);
+  child.edge_crease_.assign(2 * ne + 3 * nt, 0);
+  for (size_t e = 0; e < ne; ++e) {
+    const uint32_t m = nv + static_cast<uint32_t>(e);
+    child.edges_[2 * e] = Edge{edges_[e].a, m};
+    child.edges_[2 * e + 1] = Edge{edges_[e].b, m};
+    child.edge_crease_[2 * e] = child.edge_crease_[2 * e + 1] = edge_crease_[e];
+  }
+  // Half of parent edge e on the side of its end x.
+  auto half = [&](uint32_t e, uint32_t x) { return static_cast<uint32_t>(edges_[e].a == x ? 2 * e : 2 * e + 1); };
+  for (size_t t = 0; t < nt; ++t) {
+    const auto [a, b, c] = triangles_[t].v;
+    const auto [e0, e1, e2] = triangle_edges_[t];
+    const uint32_t m0 = nv + e0, m1 = nv + e1, m2 = nv + e2;
+    const uint32_t i0 = static_cast<uint32_t>(2 * ne + 3 * t);  // (m0, m1), (m1, m2), (m2, m0)
+    child.edges_[i0] = Edge::Of(m0, m1);
+    child.edges_[i0 + 1] = Edge::Of(m1, m2);
+    child.edges_[i0 + 2] = Edge::Of(m2, m0);
+    child.triangles_[4 * t] = Triangle{{a, m0, m2}};
+    child.triangle_edges_[4 * t] = {half(e0, a), i0 + 2, half(e2, a)};
+    child.triangles_[4 * t + 1] = Triangle{{m0, b, m1}};
+    child.triangle_edges_[4 * t + 1] = {half(e0, b), half(e1, b), i0};
+    child.triangles_[4 * t + 2] = Triangle{{m2, m1, c}};
+    child.triangle_edges_[4 * t + 2] = {i0 + 1, half(e1, c), half(e2, c)};
+    child.triangles_[4 * t + 3] = Triangle{{m0, m1, m2}};
+    child.triangle_edges_[4 * t + 3] = {i0, i0 + 1, i0 + 2};
+  }
+  child.edge_triangles_.assign(child.edges_.size(), {kNoIndex, kNoIndex});
+  for (uint32_t f = 0; f < child.triangles_.size(); ++f)
+    for (uint32_t e : child.triangle_edges_[f]) {
+      auto& slot = child.edge_triangles_[e];
+      (slot[0] == kNoIndex ? slot[0] : slot[1]) = f;
+    }
+  child.BuildNeighbours();
+  child.vertex_tags_.resize(child.num_vertices_);
+  std::copy(vertex_tags_.begin(), vertex_tags_.end(), child.vertex_tags_.begin());
+  for (size_t e = 0; e < ne; ++e)
+    child.vertex_tags_[nv + e] = edge_crease_[e] ? VertexTag::kCrease : VertexTag::kSmooth;
+  return child;
+}
+
+std::vector<Edge> TaggedMesh::CreaseEdges() const {
+  std::vector<Edge> out;
+  for (size_t e = 0; e < edges_.size(); ++e)
+    if (edge_crease_[e]) out.push_back(edges_[e]);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+SparseRows RefinementMasks(const TaggedMesh& mesh) {
+  SparseRows rows;
+  const size_t n = mesh.num_vertices() + mesh.num_edges();
+  rows.offsets.reserve(n + 1);
+  rows.indices.reserve(4 * n);
+  rows.weights.reserve(4 * n);
+  VertexMasks(mesh, rows, rules::SmoothVertexRule, rules::CreaseVertexRule);
+  for (size_t e = 0; e < mesh.num_edges(); ++e) {
+    const Edge& edge = mesh.edges()[e];
+    const auto& tris = mesh.edge_triangles(e);
+    if (mesh.is_crease(e) || tris[1] == kNoIndex) {
+      // (A smooth edge with one triangle exists only at a sub-mesh cut: its value is unused.)
+      const rules::EdgeMask m = mesh.is_crease(e)
+                                    ? rules::CreaseEdgeRule(mesh.is_corner(edge.a), mesh.is_corner(edge.b))
+                                    : rules::EdgeMask{};
+      Push(rows, edge.a, m.end0);
+      Push(rows, edge.b, m.end1);
+    } else {
+      const rules::EdgeMask m = rules::SmoothEdgeRule();
+      Push(rows, edge.a, m.end0);
+      Push(rows, edge.b, m.end1);
+      Push(rows, OppositeVertex(mesh.triangles()[tris[0]], edge), m.opposite);
+      Push(rows, OppositeVertex(mesh.triangles()[tris[1]], edge), m.opposite);
+    }
+    EndRow(rows);
+  }
+  return rows;
+}
+
+SparseRows LimitMasks(const TaggedMesh& mesh) {
+  SparseRows rows;
+  rows.offsets.reserve(size_t{mesh.num_vertices()} + 1);
+  rows.indices.reserve(7 * size_t{mesh.num_vertices()});
+  rows.weights.reserve(7 * size_t{mesh.num_vertices()});
+  VertexMasks(mesh, rows, rules::SmoothLimitRule, rules::CreaseLimitRule);
+  return rows;
+}
+
+}  // namespace sdvi
