@@ -1,0 +1,93 @@
+// The compressed payload of a .sdvi file (spec/FORMAT.md, "Compressed payload (Draco)").
+//
+// The control mesh (vertices, triangles, crease edges, explicit corners) travels as one
+// byte string: a 40-byte header, a Draco mesh (POSITION = (x, y), COLOR = (R, G, B),
+// both quantized; optionally a GENERIC uint32 attribute holding original vertex ids) and
+// a tag stream (one adaptive-binary-range-coded bit per mesh edge: crease or not, then
+// one per vertex: explicit corner or not). The rest of the image (size, feature layer,
+// metadata) stays in the container.
+//
+// What travels exactly and what does not:
+//  - topology (which vertex triples form triangles, with their orientation), crease
+//    edges and corners: exactly;
+//  - positions and colours: within half a quantization step (CompressionErrorBound);
+//  - vertex order: kept when CompressOptions::keep_vertex_order is set; otherwise the
+//    decoded order is Draco's traversal order and the encoder reports the renumbering
+//    (RenumberVertices applies it to the feature layer, so it points at the same
+//    vertices after decode);
+//  - triangle order and the rotation of each triangle's vertex list: never (the paper's
+//    layout reorders triangles anyway). Decoded triangles are canonical: rotated so that
+//    the smallest vertex index comes first (orientation kept), sorted lexicographically.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "sdvi/image.h"
+#include "sdvi/status.h"
+
+namespace sdvi {
+
+struct CompressOptions {
+  int position_bits = 0;  // 1..30; 0 = from the image size (DefaultPositionBits)
+  int color_bits = 0;     // 1..30; 0 = from the colour range (DefaultColorBits)
+  int speed = 0;          // Draco encoding/decoding speed 0 (smallest) .. 10 (fastest)
+  bool keep_vertex_order = false;  // store original vertex ids (costs bytes)
+};
+
+// Default position quantization: the smallest bit count whose step is at most 1/16
+// source pixel over max(width, height, extent of the vertex positions), at least 8.
+int DefaultPositionBits(const Image& image);
+// Default colour quantization: the smallest bit count whose step is at most 1/4 of an
+// 8-bit level over the colour range of the vertices (at least 8 bits: 10 bits for 0..255).
+int DefaultColorBits(const Image& image);
+
+// Upper bounds of |decoded - original| for positions and colours of image at the
+// given (resolved, non-zero) bit counts: half a Draco quantization step, where the step
+// is the largest per-component extent of the attribute divided by 2^bits - 1.
+struct ErrorBound {
+  double position = 0, color = 0;
+};
+ErrorBound CompressionErrorBound(const Image& image, int position_bits, int color_bits);
+
+// Encodes the control mesh and tags of image. If new_index_of_vertex is given it
+// receives, for every original vertex i, its index in the decoded image (the identity
+// when the vertex order is kept). Fails with kInvalidArgument for bad options,
+// kIndexOutOfRange / kCreaseNotAnEdge / kNonFinite / kEmptyInput for an image that cannot
+// be encoded, kEncodeFailed when Draco fails or does not round trip.
+StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image,
+                                                  const CompressOptions& options,
+                                                  std::vector<uint32_t>* new_index_of_vertex = nullptr);
+
+// Decodes a payload made by EncodeDracoPayload into image->vertices, triangles,
+// crease_edges and corners (other fields untouched). Errors name source_name:
+// kTruncated (shorter than its header says), kCorrupt (bad magic, checksum, counts or
+// tag stream), kUnsupportedVersion (newer major version), kDecodeFailed (Draco refused
+// the mesh), kLimitExceeded (counts beyond max_vertices). On error *image is unchanged.
+Status DecodeDracoPayload(std::span<const uint8_t> payload, const std::string& source_name,
+                          Image* image, uint64_t max_vertices = uint64_t{1} << 26);
+
+// Applies a renumbering (new_index_of_vertex[old] = new) to every vertex reference
+// of image: vertices, triangles, crease edges, corners, feature polylines. Returns
+// kInvalidArgument unless it is a permutation of the vertex indices.
+Status RenumberVertices(const std::vector<uint32_t>& new_index_of_vertex, Image* image);
+
+// Rotates every triangle so that its smallest vertex index comes first (cyclic order
+// kept) and sorts the triangles: the order in which a Draco payload decodes them.
+void CanonicalizeTriangles(std::vector<Triangle>* triangles);
+
+// What a payload holds, read from its header only (for `sdvi info`).
+struct DracoPayloadInfo {
+  uint32_t version_major = 0, version_minor = 0;
+  uint32_t vertex_count = 0, triangle_count = 0, crease_edge_count = 0, corner_count = 0;
+  uint32_t draco_bytes = 0, tag_bytes = 0;
+  uint64_t payload_bytes = 0;
+  int position_bits = 0, color_bits = 0, speed = 0;
+  bool has_vertex_ids = false;
+};
+StatusOr<DracoPayloadInfo> InspectDracoPayload(std::span<const uint8_t> payload,
+                                               const std::string& source_name);
+
+}  // namespace sdvi

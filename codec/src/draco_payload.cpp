@@ -1,0 +1,591 @@
+// The Draco payload: header, Draco mesh, tag stream (spec/FORMAT.md, "Compressed
+// payload (Draco)").
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <new>
+#include <numeric>
+
+#include <draco/compression/decode.h>
+#include <draco/compression/encode.h>
+#include <draco/mesh/mesh.h>
+
+#include "range_coder.h"
+#include "sdvi/codec.h"
+#include "tag_stream.h"
+
+namespace sdvi {
+namespace {
+
+using codec_internal::Crc32;
+using codec_internal::MeshEdge;
+
+// Header layout (little-endian), 40 bytes.
+constexpr char kMagic[4] = {'S', 'D', 'R', 'C'};
+constexpr uint8_t kVersionMajor = 1;
+constexpr uint8_t kVersionMinor = 0;
+constexpr size_t kHeaderSize = 40;
+constexpr size_t kCrcOffset = 36;
+constexpr uint8_t kFlagVertexIds = 1;  // the Draco mesh has the vertex id attribute
+
+// Draco attribute unique ids, in the order the attributes are added.
+constexpr uint32_t kPositionUniqueId = 0;
+constexpr uint32_t kColorUniqueId = 1;
+constexpr uint32_t kVertexIdUniqueId = 2;
+
+void PutU32(std::vector<uint8_t>& out, size_t at, uint32_t v) {
+  for (int i = 0; i < 4; ++i) out[at + i] = static_cast<uint8_t>(v >> (8 * i));
+}
+uint32_t GetU32(std::span<const uint8_t> in, size_t at) {
+  uint32_t v = 0;
+  for (int i = 0; i < 4; ++i) v |= uint32_t{in[at + i]} << (8 * i);
+  return v;
+}
+
+struct Header {
+  uint8_t major = 0, minor = 0, flags = 0;
+  uint8_t position_bits = 0, color_bits = 0, speed = 0;
+  uint32_t vertex_count = 0, triangle_count = 0, crease_edge_count = 0, corner_count = 0;
+  uint32_t draco_size = 0, tags_size = 0, crc = 0;
+};
+
+// CRC of everything except the CRC field itself.
+uint32_t PayloadCrc(std::span<const uint8_t> payload) {
+  uint32_t crc = Crc32(payload.subspan(0, kCrcOffset));
+  return Crc32(payload.subspan(kHeaderSize), crc);
+}
+
+StatusOr<Header> ParseHeader(std::span<const uint8_t> payload, const std::string& source) {
+  const std::string what = source + ": Draco payload";
+  if (payload.size() < kHeaderSize)
+    return Status(StatusCode::kTruncated, what + " is " + std::to_string(payload.size()) +
+                                              " bytes, shorter than its 40-byte header");
+  if (std::memcmp(payload.data(), kMagic, 4) != 0)
+    return Status(StatusCode::kCorrupt, what + " does not start with the magic 'SDRC'");
+  Header h;
+  h.major = payload[4];
+  h.minor = payload[5];
+  h.flags = payload[6];
+  h.position_bits = payload[7];
+  h.color_bits = payload[8];
+  h.speed = payload[9];
+  h.vertex_count = GetU32(payload, 12);
+  h.triangle_count = GetU32(payload, 16);
+  h.crease_edge_count = GetU32(payload, 20);
+  h.corner_count = GetU32(payload, 24);
+  h.draco_size = GetU32(payload, 28);
+  h.tags_size = GetU32(payload, 32);
+  h.crc = GetU32(payload, kCrcOffset);
+  if (h.major != kVersionMajor)
+    return Status(h.major > kVersionMajor ? StatusCode::kUnsupportedVersion : StatusCode::kCorrupt,
+                  what + " has version " + std::to_string(h.major) + "." +
+                      std::to_string(h.minor) + "; this build reads version 1");
+  const uint64_t expected = kHeaderSize + uint64_t{h.draco_size} + h.tags_size;
+  if (payload.size() < expected)
+    return Status(StatusCode::kTruncated,
+                  what + " is " + std::to_string(payload.size()) + " bytes, its header says " +
+                      std::to_string(expected));
+  if (payload.size() > expected)
+    return Status(StatusCode::kCorrupt, what + " is " + std::to_string(payload.size()) +
+                                            " bytes, its header says " + std::to_string(expected));
+  return h;
+}
+
+// A Draco mesh as decoded: per point its values (and original id when present), faces
+// as point triples in Draco's order.
+struct DecodedMesh {
+  std::vector<Vertex> points;
+  std::vector<uint32_t> ids;
+  std::vector<std::array<uint32_t, 3>> faces;
+};
+
+template <typename T>
+bool ReadAttribute(const draco::PointAttribute* attribute, uint32_t point, T* out) {
+  const draco::AttributeValueIndex index = attribute->mapped_index(draco::PointIndex(point));
+  if (index.value() >= attribute->size()) return false;
+  return attribute->ConvertValue<T>(index, out);
+}
+
+StatusOr<DecodedMesh> DecodeDracoMesh(std::span<const uint8_t> bytes, const std::string& source) {
+  const std::string what = source + ": Draco mesh";
+  draco::DecoderBuffer buffer;
+  buffer.Init(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  auto type = draco::Decoder::GetEncodedGeometryType(&buffer);
+  if (!type.ok())
+    return Status(StatusCode::kDecodeFailed, what + ": " + type.status().error_msg_string());
+  if (type.value() != draco::TRIANGULAR_MESH)
+    return Status(StatusCode::kDecodeFailed, what + " is not a triangular mesh");
+  draco::Decoder decoder;
+  auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
+  if (!decoded.ok())
+    return Status(StatusCode::kDecodeFailed, what + ": " + decoded.status().error_msg_string());
+  const draco::Mesh& mesh = *decoded.value();
+  const draco::PointAttribute* position = mesh.GetAttributeByUniqueId(kPositionUniqueId);
+  const draco::PointAttribute* color = mesh.GetAttributeByUniqueId(kColorUniqueId);
+  const draco::PointAttribute* id = mesh.GetAttributeByUniqueId(kVertexIdUniqueId);
+  if (!position || position->attribute_type() != draco::GeometryAttribute::POSITION ||
+      position->num_components() != 2)
+    return Status(StatusCode::kCorrupt, what + " lacks the 2-component POSITION attribute (unique id 0)");
+  if (!color || color->attribute_type() != draco::GeometryAttribute::COLOR ||
+      color->num_components() != 3)
+    return Status(StatusCode::kCorrupt, what + " lacks the 3-component COLOR attribute (unique id 1)");
+  if (id && (id->attribute_type() != draco::GeometryAttribute::GENERIC ||
+             id->num_components() != 1 || id->data_type() != draco::DT_UINT32))
+    return Status(StatusCode::kCorrupt, what + ": attribute unique id 2 is not a 1-component uint32 GENERIC");
+  DecodedMesh out;
+  const uint32_t n = mesh.num_points();
+  out.points.resize(n);
+  if (id) out.ids.resize(n);
+  for (uint32_t p = 0; p < n; ++p) {
+    float xy[2], rgb[3];
+    if (!ReadAttribute(position, p, xy) || !ReadAttribute(color, p, rgb) ||
+        (id && !ReadAttribute(id, p, &out.ids[p])))
+      return Status(StatusCode::kCorrupt, what + ": point " + std::to_string(p) +
+                                              " has no attribute value");
+    out.points[p] = {xy[0], xy[1], rgb[0], rgb[1], rgb[2]};
+  }
+  out.faces.resize(mesh.num_faces());
+  for (uint32_t f = 0; f < mesh.num_faces(); ++f) {
+    const auto& face = mesh.face(draco::FaceIndex(f));
+    for (int k = 0; k < 3; ++k) {
+      if (face[k].value() >= n)
+        return Status(StatusCode::kCorrupt, what + ": face " + std::to_string(f) +
+                                                " names point " + std::to_string(face[k].value()));
+      out.faces[f][k] = face[k].value();
+    }
+  }
+  return out;
+}
+
+// The Draco mesh of image's control mesh, with or without the vertex id attribute.
+std::unique_ptr<draco::Mesh> BuildDracoMesh(const Image& image, bool with_ids) {
+  auto mesh = std::make_unique<draco::Mesh>();
+  const uint32_t n = static_cast<uint32_t>(image.vertices.size());
+  mesh->set_num_points(n);
+  draco::GeometryAttribute position;
+  position.Init(draco::GeometryAttribute::POSITION, nullptr, 2, draco::DT_FLOAT32, false,
+                2 * sizeof(float), 0);
+  draco::GeometryAttribute color;
+  color.Init(draco::GeometryAttribute::COLOR, nullptr, 3, draco::DT_FLOAT32, false,
+             3 * sizeof(float), 0);
+  const int position_id = mesh->AddAttribute(position, true, n);
+  const int color_id = mesh->AddAttribute(color, true, n);
+  mesh->attribute(position_id)->set_unique_id(kPositionUniqueId);
+  mesh->attribute(color_id)->set_unique_id(kColorUniqueId);
+  int id_id = -1;
+  if (with_ids) {
+    draco::GeometryAttribute id;
+    id.Init(draco::GeometryAttribute::GENERIC, nullptr, 1, draco::DT_UINT32, false,
+            sizeof(uint32_t), 0);
+    id_id = mesh->AddAttribute(id, true, n);
+    mesh->attribute(id_id)->set_unique_id(kVertexIdUniqueId);
+  }
+  for (uint32_t i = 0; i < n; ++i) {
+    const Vertex& v = image.vertices[i];
+    const float xy[2] = {v.x, v.y};
+    const float rgb[3] = {v.r, v.g, v.b};
+    mesh->attribute(position_id)->SetAttributeValue(draco::AttributeValueIndex(i), xy);
+    mesh->attribute(color_id)->SetAttributeValue(draco::AttributeValueIndex(i), rgb);
+    if (with_ids) mesh->attribute(id_id)->SetAttributeValue(draco::AttributeValueIndex(i), &i);
+  }
+  mesh->SetNumFaces(image.triangles.size());
+  for (size_t t = 0; t < image.triangles.size(); ++t) {
+    const auto& tri = image.triangles[t].v;
+    mesh->SetFace(draco::FaceIndex(static_cast<uint32_t>(t)),
+                  {draco::PointIndex(tri[0]), draco::PointIndex(tri[1]), draco::PointIndex(tri[2])});
+  }
+  return mesh;
+}
+
+StatusOr<std::vector<uint8_t>> EncodeDracoMesh(const draco::Mesh& mesh, int method,
+                                               int position_bits, int color_bits, int speed) {
+  draco::Encoder encoder;
+  encoder.SetAttributeQuantization(draco::GeometryAttribute::POSITION, position_bits);
+  encoder.SetAttributeQuantization(draco::GeometryAttribute::COLOR, color_bits);
+  encoder.SetSpeedOptions(speed, speed);
+  encoder.SetEncodingMethod(method);
+  draco::EncoderBuffer buffer;
+  const draco::Status status = encoder.EncodeMeshToBuffer(mesh, &buffer);
+  if (!status.ok())
+    return Status(StatusCode::kEncodeFailed, "Draco encoder: " + status.error_msg_string());
+  const auto* data = reinterpret_cast<const uint8_t*>(buffer.data());
+  return std::vector<uint8_t>(data, data + buffer.size());
+}
+
+// Largest per-component extent of the positions (xy) or colours (rgb): Draco's range.
+double AttributeRange(const Image& image, bool colors, double* max_abs) {
+  const int n = colors ? 3 : 2;
+  double lo[3], hi[3];
+  std::fill(lo, lo + 3, std::numeric_limits<double>::infinity());
+  std::fill(hi, hi + 3, -std::numeric_limits<double>::infinity());
+  *max_abs = 0;
+  for (const Vertex& v : image.vertices) {
+    const float c[5] = {v.x, v.y, v.r, v.g, v.b};
+    for (int k = 0; k < n; ++k) {
+      const double value = c[(colors ? 2 : 0) + k];
+      lo[k] = std::min(lo[k], value);
+      hi[k] = std::max(hi[k], value);
+      *max_abs = std::max(*max_abs, std::abs(value));
+    }
+  }
+  double range = 0;
+  for (int k = 0; k < n && !image.vertices.empty(); ++k) range = std::max(range, hi[k] - lo[k]);
+  return range > 0 ? range : 1.0;
+}
+
+int BitsForStep(double extent, double step) {
+  const double levels = extent / step + 1;
+  const int bits = static_cast<int>(std::ceil(std::log2(std::max(levels, 2.0))));
+  return std::clamp(bits, 8, 30);
+}
+
+Status ValidateForEncoding(const Image& image) {
+  const size_t n = image.vertices.size();
+  if (n == 0 || image.triangles.empty())
+    return Status(StatusCode::kEmptyInput, "image to compress has no vertices or no triangles");
+  if (n > std::numeric_limits<uint32_t>::max() / 2 ||
+      image.triangles.size() > std::numeric_limits<uint32_t>::max() / 4)
+    return Status(StatusCode::kLimitExceeded, "image to compress is too large for a Draco payload");
+  for (size_t i = 0; i < n; ++i) {
+    const Vertex& v = image.vertices[i];
+    for (float c : {v.x, v.y, v.r, v.g, v.b})
+      if (!std::isfinite(c))
+        return Status(StatusCode::kNonFinite,
+                      "image to compress: vertex " + std::to_string(i) + " is not finite");
+  }
+  for (size_t t = 0; t < image.triangles.size(); ++t)
+    for (uint32_t v : image.triangles[t].v)
+      if (v >= n)
+        return Status(StatusCode::kIndexOutOfRange,
+                      "image to compress: triangle " + std::to_string(t) + " names vertex " +
+                          std::to_string(v) + " of " + std::to_string(n));
+  for (uint32_t c : image.corners)
+    if (c >= n)
+      return Status(StatusCode::kIndexOutOfRange,
+                    "image to compress: corner " + std::to_string(c) + " of " + std::to_string(n) +
+                        " vertices");
+  for (const Edge& e : image.crease_edges)
+    if (e.a >= e.b || e.b >= n)
+      return Status(StatusCode::kIndexOutOfRange,
+                    "image to compress: crease edge (" + std::to_string(e.a) + ", " +
+                        std::to_string(e.b) + ") is not a vertex pair a < b < " + std::to_string(n));
+  return Status::Ok();
+}
+
+// True when decoded (with ids) is image up to quantization, vertex order and triangle
+// order and rotation.
+bool MapsBack(const DecodedMesh& decoded, const Image& image, const ErrorBound& bound) {
+  const size_t n = image.vertices.size();
+  if (decoded.ids.size() != decoded.points.size()) return false;
+  std::vector<char> seen(n, 0);
+  for (size_t p = 0; p < decoded.points.size(); ++p) {
+    const uint32_t id = decoded.ids[p];
+    if (id >= n) return false;
+    seen[id] = 1;
+    const Vertex& a = decoded.points[p];
+    const Vertex& b = image.vertices[id];
+    if (std::abs(a.x - b.x) > bound.position || std::abs(a.y - b.y) > bound.position ||
+        std::abs(a.r - b.r) > bound.color || std::abs(a.g - b.g) > bound.color ||
+        std::abs(a.b - b.b) > bound.color)
+      return false;
+  }
+  if (std::find(seen.begin(), seen.end(), 0) != seen.end()) return false;
+  if (decoded.faces.size() != image.triangles.size()) return false;
+  std::vector<Triangle> got(decoded.faces.size());
+  for (size_t f = 0; f < decoded.faces.size(); ++f)
+    for (int k = 0; k < 3; ++k) got[f].v[k] = decoded.ids[decoded.faces[f][k]];
+  std::vector<Triangle> want = image.triangles;
+  CanonicalizeTriangles(&got);
+  CanonicalizeTriangles(&want);
+  return got == want;
+}
+
+bool SameMesh(const DecodedMesh& a, const DecodedMesh& b) {
+  return a.points == b.points && a.faces == b.faces;
+}
+
+}  // namespace
+
+int DefaultPositionBits(const Image& image) {
+  double max_abs = 0;
+  const double extent = std::max({double(image.width), double(image.height),
+                                  image.vertices.empty() ? 0.0 : AttributeRange(image, false, &max_abs)});
+  return BitsForStep(extent, 1.0 / 16);
+}
+
+int DefaultColorBits(const Image& image) {
+  double max_abs = 0;
+  return BitsForStep(AttributeRange(image, true, &max_abs), 0.25);
+}
+
+ErrorBound CompressionErrorBound(const Image& image, int position_bits, int color_bits) {
+  // Half a step, plus the float rounding of Draco's dequantization (min + q * step).
+  auto bound = [&](bool colors, int bits) {
+    double max_abs = 0;
+    const double range = AttributeRange(image, colors, &max_abs);
+    const double step = range / double((uint64_t{1} << bits) - 1);
+    return 0.5 * step + 8 * FLT_EPSILON * (max_abs + range);
+  };
+  return {bound(false, position_bits), bound(true, color_bits)};
+}
+
+void CanonicalizeTriangles(std::vector<Triangle>* triangles) {
+  for (Triangle& t : *triangles) {
+    const int k = static_cast<int>(std::min_element(t.v.begin(), t.v.end()) - t.v.begin());
+    std::rotate(t.v.begin(), t.v.begin() + k, t.v.end());
+  }
+  std::sort(triangles->begin(), triangles->end(),
+            [](const Triangle& a, const Triangle& b) { return a.v < b.v; });
+}
+
+Status RenumberVertices(const std::vector<uint32_t>& new_index_of_vertex, Image* image) {
+  const size_t n = image->vertices.size();
+  if (new_index_of_vertex.size() != n)
+    return Status(StatusCode::kInvalidArgument,
+                  "vertex renumbering has " + std::to_string(new_index_of_vertex.size()) +
+                      " entries for " + std::to_string(n) + " vertices");
+  std::vector<Vertex> vertices(n);
+  std::vector<char> used(n, 0);
+  for (size_t i = 0; i < n; ++i) {
+    const uint32_t j = new_index_of_vertex[i];
+    if (j >= n || used[j])
+      return Status(StatusCode::kInvalidArgument, "vertex renumbering is not a permutation");
+    used[j] = 1;
+    vertices[j] = image->vertices[i];
+  }
+  auto map = [&](uint32_t v) { return v < n ? new_index_of_vertex[v] : v; };
+  image->vertices = std::move(vertices);
+  for (Triangle& t : image->triangles)
+    for (uint32_t& v : t.v) v = map(v);
+  for (Edge& e : image->crease_edges) e = Edge::Of(map(e.a), map(e.b));
+  std::sort(image->crease_edges.begin(), image->crease_edges.end());
+  for (uint32_t& c : image->corners) c = map(c);
+  std::sort(image->corners.begin(), image->corners.end());
+  for (FeaturePolyline& p : image->polylines)
+    for (uint32_t& v : p.vertices) v = map(v);
+  return Status::Ok();
+}
+
+StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const CompressOptions& options,
+                                                  std::vector<uint32_t>* new_index_of_vertex) {
+  if (options.position_bits < 0 || options.position_bits > 30)
+    return Status(StatusCode::kInvalidArgument,
+                  "position bits " + std::to_string(options.position_bits) + " not in 1..30 (0 = default)");
+  if (options.color_bits < 0 || options.color_bits > 30)
+    return Status(StatusCode::kInvalidArgument,
+                  "colour bits " + std::to_string(options.color_bits) + " not in 1..30 (0 = default)");
+  if (options.speed < 0 || options.speed > 10)
+    return Status(StatusCode::kInvalidArgument,
+                  "speed " + std::to_string(options.speed) + " not in 0..10");
+  SDVI_RETURN_IF_ERROR(ValidateForEncoding(image));
+  const uint32_t n = static_cast<uint32_t>(image.vertices.size());
+
+  // Crease edges and corners: sorted, unique, crease edges on the mesh.
+  std::vector<Edge> creases = image.crease_edges;
+  std::sort(creases.begin(), creases.end());
+  creases.erase(std::unique(creases.begin(), creases.end()), creases.end());
+  std::vector<uint32_t> corners = image.corners;
+  std::sort(corners.begin(), corners.end());
+  corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+  {
+    const std::vector<MeshEdge> edges = codec_internal::CollectMeshEdges(image.triangles);
+    for (const Edge& e : creases) {
+      const auto it = std::lower_bound(edges.begin(), edges.end(), e, [](const MeshEdge& m, const Edge& x) {
+        return m.a != x.a ? m.a < x.a : m.b < x.b;
+      });
+      if (it == edges.end() || it->a != e.a || it->b != e.b)
+        return Status(StatusCode::kCreaseNotAnEdge,
+                      "image to compress: crease edge (" + std::to_string(e.a) + ", " +
+                          std::to_string(e.b) + ") is not an edge of any triangle");
+    }
+  }
+
+  const int position_bits = options.position_bits ? options.position_bits : DefaultPositionBits(image);
+  const int color_bits = options.color_bits ? options.color_bits : DefaultColorBits(image);
+  const ErrorBound bound = CompressionErrorBound(image, position_bits, color_bits);
+
+  // Try, in order: edgebreaker without ids (decoded order = Draco's), edgebreaker with
+  // ids, sequential with ids. Each candidate is decoded and checked before it is kept.
+  std::vector<uint8_t> draco_bytes;
+  std::vector<uint32_t> renumbering;
+  bool with_ids = true;
+  try {
+    const std::string self = "compressed image (self-check)";
+    if (options.speed < 10) {
+      auto mesh_ids = BuildDracoMesh(image, true);
+      SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes_ids,
+                            EncodeDracoMesh(*mesh_ids, draco::MESH_EDGEBREAKER_ENCODING,
+                                            position_bits, color_bits, options.speed));
+      StatusOr<DecodedMesh> decoded_ids = DecodeDracoMesh(bytes_ids, self);
+      if (decoded_ids.ok() && MapsBack(*decoded_ids, image, bound)) {
+        if (!options.keep_vertex_order && decoded_ids->points.size() == n) {
+          auto mesh_plain = BuildDracoMesh(image, false);
+          StatusOr<std::vector<uint8_t>> bytes_plain = EncodeDracoMesh(
+              *mesh_plain, draco::MESH_EDGEBREAKER_ENCODING, position_bits, color_bits, options.speed);
+          if (bytes_plain.ok()) {
+            StatusOr<DecodedMesh> decoded_plain = DecodeDracoMesh(*bytes_plain, self);
+            if (decoded_plain.ok() && SameMesh(*decoded_plain, *decoded_ids)) {
+              draco_bytes = std::move(bytes_plain).value();
+              renumbering.assign(n, 0);
+              for (uint32_t p = 0; p < n; ++p) renumbering[decoded_ids->ids[p]] = p;
+              with_ids = false;
+            }
+          }
+        }
+        if (with_ids) draco_bytes = std::move(bytes_ids);
+      }
+    }
+    if (draco_bytes.empty()) {
+      auto mesh_ids = BuildDracoMesh(image, true);
+      SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes,
+                            EncodeDracoMesh(*mesh_ids, draco::MESH_SEQUENTIAL_ENCODING,
+                                            position_bits, color_bits, options.speed));
+      SDVI_ASSIGN_OR_RETURN(DecodedMesh decoded, DecodeDracoMesh(bytes, self));
+      if (!MapsBack(decoded, image, bound))
+        return Status(StatusCode::kEncodeFailed,
+                      "Draco does not reproduce the control mesh of the image to compress");
+      draco_bytes = std::move(bytes);
+    }
+  } catch (const std::bad_alloc&) {
+    return Status(StatusCode::kLimitExceeded, "out of memory while compressing the image");
+  }
+  if (renumbering.empty()) {
+    renumbering.resize(n);
+    std::iota(renumbering.begin(), renumbering.end(), 0u);
+  }
+
+  // Tags in the decoded numbering.
+  Image renumbered;
+  renumbered.vertices = image.vertices;
+  renumbered.triangles = image.triangles;
+  renumbered.crease_edges = creases;
+  renumbered.corners = corners;
+  SDVI_RETURN_IF_ERROR(RenumberVertices(renumbering, &renumbered));
+  const std::vector<uint8_t> tags = codec_internal::EncodeTags(
+      n, codec_internal::CollectMeshEdges(renumbered.triangles), renumbered.crease_edges,
+      renumbered.corners);
+
+  std::vector<uint8_t> payload(kHeaderSize + draco_bytes.size() + tags.size(), 0);
+  std::memcpy(payload.data(), kMagic, 4);
+  payload[4] = kVersionMajor;
+  payload[5] = kVersionMinor;
+  payload[6] = with_ids ? kFlagVertexIds : 0;
+  payload[7] = static_cast<uint8_t>(position_bits);
+  payload[8] = static_cast<uint8_t>(color_bits);
+  payload[9] = static_cast<uint8_t>(options.speed);
+  PutU32(payload, 12, n);
+  PutU32(payload, 16, static_cast<uint32_t>(image.triangles.size()));
+  PutU32(payload, 20, static_cast<uint32_t>(creases.size()));
+  PutU32(payload, 24, static_cast<uint32_t>(corners.size()));
+  PutU32(payload, 28, static_cast<uint32_t>(draco_bytes.size()));
+  PutU32(payload, 32, static_cast<uint32_t>(tags.size()));
+  std::copy(draco_bytes.begin(), draco_bytes.end(), payload.begin() + kHeaderSize);
+  std::copy(tags.begin(), tags.end(), payload.begin() + kHeaderSize + draco_bytes.size());
+  PutU32(payload, kCrcOffset, PayloadCrc(payload));
+  if (new_index_of_vertex) *new_index_of_vertex = std::move(renumbering);
+  return payload;
+}
+
+Status DecodeDracoPayload(std::span<const uint8_t> payload, const std::string& source_name,
+                          Image* image, uint64_t max_vertices) {
+  SDVI_ASSIGN_OR_RETURN(Header h, ParseHeader(payload, source_name));
+  const std::string what = source_name + ": Draco payload";
+  if (PayloadCrc(payload) != h.crc)
+    return Status(StatusCode::kCorrupt, what + " fails its CRC-32 check (damaged bytes)");
+  if (h.vertex_count > max_vertices || h.triangle_count > 4 * max_vertices)
+    return Status(StatusCode::kLimitExceeded,
+                  what + " has " + std::to_string(h.vertex_count) + " vertices and " +
+                      std::to_string(h.triangle_count) + " triangles; the limit is " +
+                      std::to_string(max_vertices) + " vertices");
+  if (h.vertex_count == 0 || h.triangle_count == 0)
+    return Status(StatusCode::kCorrupt, what + " header counts no vertices or no triangles");
+  const bool has_ids = (h.flags & kFlagVertexIds) != 0;
+  const uint32_t n = h.vertex_count;
+  Image out;
+  try {
+    SDVI_ASSIGN_OR_RETURN(DecodedMesh mesh,
+                          DecodeDracoMesh(payload.subspan(kHeaderSize, h.draco_size), source_name));
+    if (has_ids != !mesh.ids.empty())
+      return Status(StatusCode::kCorrupt, what + (has_ids ? ": header flags vertex ids, the Draco mesh has none"
+                                                          : ": the Draco mesh has vertex ids the header does not flag"));
+    std::vector<uint32_t> index_of_point(mesh.points.size());
+    out.vertices.resize(n);
+    if (has_ids) {
+      std::vector<char> seen(n, 0);
+      for (size_t p = 0; p < mesh.points.size(); ++p) {
+        const uint32_t id = mesh.ids[p];
+        if (id >= n)
+          return Status(StatusCode::kCorrupt, what + ": point " + std::to_string(p) + " has vertex id " +
+                                                  std::to_string(id) + ", the header counts " +
+                                                  std::to_string(n) + " vertices");
+        if (seen[id] && !(out.vertices[id] == mesh.points[p]))
+          return Status(StatusCode::kCorrupt, what + ": two points with vertex id " +
+                                                  std::to_string(id) + " differ");
+        seen[id] = 1;
+        out.vertices[id] = mesh.points[p];
+        index_of_point[p] = id;
+      }
+      const auto missing = std::find(seen.begin(), seen.end(), 0);
+      if (missing != seen.end())
+        return Status(StatusCode::kCorrupt, what + ": no point has vertex id " +
+                                                std::to_string(missing - seen.begin()));
+    } else {
+      if (mesh.points.size() != n)
+        return Status(StatusCode::kCorrupt, what + ": the Draco mesh has " +
+                                                std::to_string(mesh.points.size()) +
+                                                " points, the header counts " + std::to_string(n));
+      out.vertices = std::move(mesh.points);
+      std::iota(index_of_point.begin(), index_of_point.end(), 0u);
+    }
+    for (size_t i = 0; i < out.vertices.size(); ++i) {
+      const Vertex& v = out.vertices[i];
+      for (float c : {v.x, v.y, v.r, v.g, v.b})
+        if (!std::isfinite(c))
+          return Status(StatusCode::kNonFinite, what + ": vertex " + std::to_string(i) + " is not finite");
+    }
+    if (mesh.faces.size() != h.triangle_count)
+      return Status(StatusCode::kCorrupt, what + ": the Draco mesh has " + std::to_string(mesh.faces.size()) +
+                                              " faces, the header counts " +
+                                              std::to_string(h.triangle_count) + " triangles");
+    out.triangles.resize(mesh.faces.size());
+    for (size_t f = 0; f < mesh.faces.size(); ++f)
+      for (int k = 0; k < 3; ++k) out.triangles[f].v[k] = index_of_point[mesh.faces[f][k]];
+    CanonicalizeTriangles(&out.triangles);
+    SDVI_RETURN_IF_ERROR(codec_internal::DecodeTags(
+        payload.subspan(kHeaderSize + h.draco_size, h.tags_size), n,
+        codec_internal::CollectMeshEdges(out.triangles), h.crease_edge_count, h.corner_count,
+        source_name, &out.crease_edges, &out.corners));
+  } catch (const std::bad_alloc&) {
+    return Status(StatusCode::kLimitExceeded, what + ": out of memory while decoding");
+  }
+  image->vertices = std::move(out.vertices);
+  image->triangles = std::move(out.triangles);
+  image->crease_edges = std::move(out.crease_edges);
+  image->corners = std::move(out.corners);
+  return Status::Ok();
+}
+
+StatusOr<DracoPayloadInfo> InspectDracoPayload(std::span<const uint8_t> payload,
+                                               const std::string& source_name) {
+  SDVI_ASSIGN_OR_RETURN(Header h, ParseHeader(payload, source_name));
+  DracoPayloadInfo info;
+  info.version_major = h.major;
+  info.version_minor = h.minor;
+  info.vertex_count = h.vertex_count;
+  info.triangle_count = h.triangle_count;
+  info.crease_edge_count = h.crease_edge_count;
+  info.corner_count = h.corner_count;
+  info.draco_bytes = h.draco_size;
+  info.tag_bytes = h.tags_size;
+  info.payload_bytes = payload.size();
+  info.position_bits = h.position_bits;
+  info.color_bits = h.color_bits;
+  info.speed = h.speed;
+  info.has_vertex_ids = (h.flags & kFlagVertexIds) != 0;
+  return info;
+}
+
+}  // namespace sdvi

@@ -1,0 +1,268 @@
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <random>
+
+#include "sdvi/codec.h"
+#include "synthetic_mesh.h"
+
+using sdvi::CompressOptions;
+using sdvi::Image;
+using sdvi::StatusCode;
+
+namespace {
+
+// Checks decoded against original renumbered by new_index: topology and tags exactly,
+// positions and colours within the stated error bound.
+void RequireRoundTrip(const Image& original, const Image& decoded,
+                      const std::vector<uint32_t>& new_index, int position_bits, int color_bits) {
+  Image expected = original;
+  REQUIRE(sdvi::RenumberVertices(new_index, &expected).ok());
+  sdvi::CanonicalizeTriangles(&expected.triangles);
+  REQUIRE(decoded.vertices.size() == expected.vertices.size());
+  CHECK(decoded.triangles == expected.triangles);
+  CHECK(decoded.crease_edges == expected.crease_edges);
+  CHECK(decoded.corners == expected.corners);
+  const sdvi::ErrorBound bound = sdvi::CompressionErrorBound(original, position_bits, color_bits);
+  double worst_position = 0, worst_color = 0;
+  for (size_t i = 0; i < expected.vertices.size(); ++i) {
+    const auto& a = decoded.vertices[i];
+    const auto& b = expected.vertices[i];
+    worst_position = std::max({worst_position, double(std::abs(a.x - b.x)), double(std::abs(a.y - b.y))});
+    worst_color = std::max({worst_color, double(std::abs(a.r - b.r)), double(std::abs(a.g - b.g)),
+                            double(std::abs(a.b - b.b))});
+  }
+  CHECK(worst_position <= bound.position);
+  CHECK(worst_color <= bound.color);
+  CHECK(worst_position > 0);  // quantization happened: the bound is what is tested
+}
+
+struct Encoded {
+  std::vector<uint8_t> payload;
+  std::vector<uint32_t> new_index;
+};
+
+Encoded MustEncode(const Image& image, const CompressOptions& options = {}) {
+  Encoded e;
+  auto payload = sdvi::EncodeDracoPayload(image, options, &e.new_index);
+  INFO(payload.status().ToString());
+  REQUIRE(payload.ok());
+  e.payload = std::move(payload).value();
+  return e;
+}
+
+Image MustDecode(const std::vector<uint8_t>& payload) {
+  Image image;
+  const sdvi::Status status = sdvi::DecodeDracoPayload(payload, "test.sdvi", &image);
+  INFO(status.ToString());
+  REQUIRE(status.ok());
+  return image;
+}
+
+}  // namespace
+
+TEST_CASE("default round trip keeps topology and tags exactly, values within the bound",
+          "[codec]") {
+  for (bool shuffle : {false, true}) {
+    const Image image = sdvi::testing::SyntheticGridImage(512, 384, 40, 30, 11, shuffle);
+    const Encoded e = MustEncode(image);
+    const Image decoded = MustDecode(e.payload);
+    RequireRoundTrip(image, decoded, e.new_index, sdvi::DefaultPositionBits(image),
+                     sdvi::DefaultColorBits(image));
+  }
+}
+
+TEST_CASE("explicit quantization bits bound the error as stated", "[codec]") {
+  const Image image = sdvi::testing::SyntheticGridImage(300, 200, 25, 17, 5);
+  for (int bits : {8, 11, 14, 20}) {
+    CompressOptions options;
+    options.position_bits = bits;
+    options.color_bits = bits - 2;
+    const Encoded e = MustEncode(image, options);
+    RequireRoundTrip(image, MustDecode(e.payload), e.new_index, bits, bits - 2);
+  }
+}
+
+TEST_CASE("keep_vertex_order decodes vertices in their original order", "[codec]") {
+  const Image image = sdvi::testing::SyntheticGridImage(256, 256, 20, 20, 3, /*shuffle=*/true);
+  CompressOptions options;
+  options.keep_vertex_order = true;
+  const Encoded e = MustEncode(image, options);
+  std::vector<uint32_t> identity(image.vertices.size());
+  std::iota(identity.begin(), identity.end(), 0u);
+  CHECK(e.new_index == identity);
+  RequireRoundTrip(image, MustDecode(e.payload), e.new_index, sdvi::DefaultPositionBits(image),
+                   sdvi::DefaultColorBits(image));
+  // Without ids the payload is smaller (the shuffled numbering is expensive to keep).
+  const Encoded plain = MustEncode(image);
+  CHECK(plain.payload.size() < e.payload.size());
+}
+
+TEST_CASE("the feature layer renumbered by the encoder points at the same vertices", "[codec]") {
+  const Image image = sdvi::testing::SyntheticGridImage(200, 200, 15, 15, 9, true);
+  const Encoded e = MustEncode(image);
+  Image moved = image;
+  REQUIRE(sdvi::RenumberVertices(e.new_index, &moved).ok());
+  const Image decoded = MustDecode(e.payload);
+  const auto& before = image.polylines.at(0).vertices;
+  const auto& after = moved.polylines.at(0).vertices;
+  REQUIRE(before.size() == after.size());
+  const double tolerance = sdvi::CompressionErrorBound(image, sdvi::DefaultPositionBits(image),
+                                                       sdvi::DefaultColorBits(image)).position;
+  for (size_t k = 0; k < before.size(); ++k) {
+    CHECK(std::abs(decoded.vertices[after[k]].x - image.vertices[before[k]].x) <= tolerance);
+    CHECK(std::abs(decoded.vertices[after[k]].y - image.vertices[before[k]].y) <= tolerance);
+  }
+}
+
+TEST_CASE("encoding is deterministic", "[codec]") {
+  const Image image = sdvi::testing::SyntheticGridImage(512, 512, 50, 50, 21, true);
+  for (int speed : {0, 5, 10}) {
+    CompressOptions options;
+    options.speed = speed;
+    CHECK(MustEncode(image, options).payload == MustEncode(image, options).payload);
+  }
+}
+
+TEST_CASE("every speed round trips, speed 10 through sequential encoding", "[codec]") {
+  const Image image = sdvi::testing::SyntheticGridImage(128, 96, 12, 9, 4, true);
+  for (int speed : {0, 3, 7, 10}) {
+    CompressOptions options;
+    options.speed = speed;
+    const Encoded e = MustEncode(image, options);
+    RequireRoundTrip(image, MustDecode(e.payload), e.new_index, sdvi::DefaultPositionBits(image),
+                     sdvi::DefaultColorBits(image));
+    auto info = sdvi::InspectDracoPayload(e.payload, "x");
+    REQUIRE(info.ok());
+    CHECK(info->speed == speed);
+    if (speed == 10) CHECK(info->has_vertex_ids);
+  }
+}
+
+TEST_CASE("meshes edgebreaker cannot carry still round trip (isolated vertex, non-manifold edge)",
+          "[codec]") {
+  Image image = sdvi::testing::SyntheticGridImage(64, 64, 6, 6, 2);
+  SECTION("isolated vertex") { image.vertices.push_back({10.5f, 20.25f, 1, 2, 3}); }
+  SECTION("non-manifold edge") {
+    image.vertices.push_back({30.f, 30.f, 100, 100, 100});
+    const uint32_t extra = static_cast<uint32_t>(image.vertices.size() - 1);
+    const auto t = image.triangles[20].v;
+    image.triangles.push_back({{t[0], t[1], extra}});
+  }
+  const Encoded e = MustEncode(image);
+  RequireRoundTrip(image, MustDecode(e.payload), e.new_index, sdvi::DefaultPositionBits(image),
+                   sdvi::DefaultColorBits(image));
+}
+
+TEST_CASE("default quantization is chosen from the image size", "[codec]") {
+  Image small = sdvi::testing::SyntheticGridImage(64, 64, 5, 5);
+  Image large = sdvi::testing::SyntheticGridImage(4096, 2048, 5, 5);
+  CHECK(sdvi::DefaultPositionBits(small) == 11);  // 64 * 16 steps need 2^11 - 1 >= 1024
+  CHECK(sdvi::DefaultPositionBits(large) == 17);
+  CHECK(sdvi::DefaultColorBits(small) >= 8);
+  const auto bound = sdvi::CompressionErrorBound(large, sdvi::DefaultPositionBits(large),
+                                                 sdvi::DefaultColorBits(large));
+  CHECK(bound.position <= 1.0 / 32 + 1e-3);
+  CHECK(bound.color <= 0.125 + 1e-3);
+}
+
+TEST_CASE("Draco payload is at most a quarter of the paper's raw size", "[codec]") {
+  const Image image = sdvi::testing::SyntheticGridImage(512, 512, 100, 100, 8);
+  const Encoded e = MustEncode(image);
+  const size_t raw = image.vertices.size() * 20 + image.triangles.size() * 6 + 8;
+  INFO("raw " << raw << " draco " << e.payload.size());
+  CHECK(e.payload.size() * 4 <= raw);
+}
+
+TEST_CASE("truncated payloads are errors, never crashes", "[codec][corrupt]") {
+  const Image image = sdvi::testing::SyntheticGridImage(100, 80, 10, 8, 6);
+  const Encoded e = MustEncode(image);
+  for (size_t n = 0; n < e.payload.size(); n += (n < 64 ? 1 : 7)) {
+    std::vector<uint8_t> cut(e.payload.begin(), e.payload.begin() + n);
+    Image out;
+    const sdvi::Status status = sdvi::DecodeDracoPayload(cut, "cut.sdvi", &out);
+    REQUIRE_FALSE(status.ok());
+    CHECK(status.code() == StatusCode::kTruncated);
+    CHECK(status.message().find("cut.sdvi") != std::string::npos);
+    CHECK(out.vertices.empty());
+  }
+}
+
+TEST_CASE("flipped bytes are caught by the checksum", "[codec][corrupt]") {
+  const Image image = sdvi::testing::SyntheticGridImage(100, 80, 10, 8, 6);
+  const Encoded e = MustEncode(image);
+  for (size_t i = 0; i < e.payload.size(); ++i) {
+    std::vector<uint8_t> bad = e.payload;
+    bad[i] ^= 0x10;
+    Image out;
+    const sdvi::Status status = sdvi::DecodeDracoPayload(bad, "bad.sdvi", &out);
+    REQUIRE_FALSE(status.ok());
+    CHECK((status.code() == StatusCode::kCorrupt || status.code() == StatusCode::kTruncated ||
+           status.code() == StatusCode::kUnsupportedVersion));
+  }
+}
+
+TEST_CASE("damaged Draco bytes behind a valid checksum give errors or data, never crashes",
+          "[codec][corrupt]") {
+  const Image image = sdvi::testing::SyntheticGridImage(100, 80, 10, 8, 6);
+  const Encoded e = MustEncode(image);
+  auto info = sdvi::InspectDracoPayload(e.payload, "x");
+  REQUIRE(info.ok());
+  std::mt19937 rng(99);
+  int failures = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    std::vector<uint8_t> bad = e.payload;
+    const size_t at = 40 + rng() % (info->draco_bytes + info->tag_bytes);
+    bad[at] = static_cast<uint8_t>(rng());
+    sdvi::testing::FixPayloadChecksum(&bad);
+    Image out;
+    const sdvi::Status status = sdvi::DecodeDracoPayload(bad, "fuzz.sdvi", &out);
+    if (!status.ok()) {
+      ++failures;
+      CHECK((status.code() == StatusCode::kCorrupt || status.code() == StatusCode::kDecodeFailed ||
+             status.code() == StatusCode::kNonFinite || status.code() == StatusCode::kLimitExceeded));
+    } else {
+      for (const auto& t : out.triangles)
+        for (uint32_t v : t.v) CHECK(v < out.vertices.size());
+    }
+  }
+  CHECK(failures > 0);
+}
+
+TEST_CASE("header problems have specific codes", "[codec][corrupt]") {
+  const Image image = sdvi::testing::SyntheticGridImage(50, 50, 6, 6);
+  const Encoded e = MustEncode(image);
+  Image out;
+  std::vector<uint8_t> bad = e.payload;
+  bad[0] = 'X';
+  CHECK(sdvi::DecodeDracoPayload(bad, "m", &out).code() == StatusCode::kCorrupt);
+  bad = e.payload;
+  bad[4] = 2;  // a future major version
+  CHECK(sdvi::DecodeDracoPayload(bad, "v", &out).code() == StatusCode::kUnsupportedVersion);
+  bad = e.payload;
+  bad.push_back(0);
+  CHECK(sdvi::DecodeDracoPayload(bad, "long", &out).code() == StatusCode::kCorrupt);
+  CHECK(sdvi::DecodeDracoPayload(e.payload, "limit", &out, 10).code() == StatusCode::kLimitExceeded);
+}
+
+TEST_CASE("images that cannot be encoded and bad options are rejected", "[codec]") {
+  const Image image = sdvi::testing::SyntheticGridImage(50, 50, 6, 6);
+  CompressOptions options;
+  options.position_bits = 31;
+  CHECK(sdvi::EncodeDracoPayload(image, options).status().code() == StatusCode::kInvalidArgument);
+  options = {};
+  options.speed = 11;
+  CHECK(sdvi::EncodeDracoPayload(image, options).status().code() == StatusCode::kInvalidArgument);
+  CHECK(sdvi::EncodeDracoPayload(Image{}, {}).status().code() == StatusCode::kEmptyInput);
+  Image bad = image;
+  bad.crease_edges.push_back(sdvi::Edge::Of(0, 35));  // opposite grid corners
+  CHECK(sdvi::EncodeDracoPayload(bad, {}).status().code() == StatusCode::kCreaseNotAnEdge);
+  bad = image;
+  bad.triangles[0].v[1] = 1000;
+  CHECK(sdvi::EncodeDracoPayload(bad, {}).status().code() == StatusCode::kIndexOutOfRange);
+  bad = image;
+  bad.vertices[3].g = std::nanf("");
+  CHECK(sdvi::EncodeDracoPayload(bad, {}).status().code() == StatusCode::kNonFinite);
+}

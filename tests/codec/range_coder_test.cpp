@@ -1,0 +1,49 @@
+#include <catch2/catch.hpp>
+
+#include <random>
+#include <string>
+#include <vector>
+
+#include "range_coder.h"
+
+using namespace sdvi::codec_internal;
+
+TEST_CASE("range coder round trips skewed and balanced bit sequences", "[codec][range]") {
+  for (double p_one : {0.0, 0.01, 0.2, 0.5, 0.93, 1.0}) {
+    std::mt19937 rng(7);
+    std::bernoulli_distribution bit(p_one);
+    std::vector<bool> bits(20000);
+    for (size_t i = 0; i < bits.size(); ++i) bits[i] = bit(rng);
+    RangeEncoder encoder;
+    BitModel models[2];
+    for (size_t i = 0; i < bits.size(); ++i) encoder.Encode(models[i % 2], bits[i]);
+    const std::vector<uint8_t> bytes = encoder.Finish();
+    RangeDecoder decoder(bytes);
+    BitModel decode_models[2];
+    for (size_t i = 0; i < bits.size(); ++i) REQUIRE(decoder.Decode(decode_models[i % 2]) == bits[i]);
+    CHECK_FALSE(decoder.overrun());
+    if (p_one == 0.0 || p_one == 1.0) CHECK(bytes.size() < 100);  // adaptive: nearly free
+  }
+}
+
+TEST_CASE("range decoder reports a truncated stream as overrun", "[codec][range]") {
+  std::mt19937 rng(3);
+  RangeEncoder encoder;
+  BitModel model;
+  for (int i = 0; i < 5000; ++i) encoder.Encode(model, rng() & 1);
+  std::vector<uint8_t> bytes = encoder.Finish();
+  bytes.resize(bytes.size() / 2);
+  RangeDecoder decoder(bytes);
+  BitModel decode_model;
+  for (int i = 0; i < 5000; ++i) (void)decoder.Decode(decode_model);
+  CHECK(decoder.overrun());
+}
+
+TEST_CASE("CRC-32 matches the IEEE check value", "[codec][crc]") {
+  const std::string check = "123456789";
+  const std::vector<uint8_t> bytes(check.begin(), check.end());
+  CHECK(Crc32(bytes) == 0xCBF43926u);
+  // Continuation equals one pass.
+  CHECK(Crc32(std::span<const uint8_t>(bytes).subspan(4), Crc32(std::span<const uint8_t>(bytes).subspan(0, 4))) ==
+        0xCBF43926u);
+}

@@ -1,0 +1,92 @@
+#include "synthetic_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <random>
+#include <span>
+
+#include "range_coder.h"
+
+namespace sdvi::testing {
+
+Image SyntheticGridImage(uint32_t width, uint32_t height, uint32_t cols, uint32_t rows,
+                         uint32_t seed, bool shuffle) {
+  Image image;
+  image.width = width;
+  image.height = height;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> jitter(-0.3f, 0.3f);
+  const float dx = float(width) / float(cols - 1), dy = float(height) / float(rows - 1);
+  const uint32_t mid = rows / 2;
+  auto id = [&](uint32_t i, uint32_t j) { return j * cols + i; };
+  for (uint32_t j = 0; j < rows; ++j) {
+    for (uint32_t i = 0; i < cols; ++i) {
+      const bool interior = i > 0 && j > 0 && i + 1 < cols && j + 1 < rows;
+      Vertex v;
+      v.x = float(i) * dx + (interior ? jitter(rng) * dx : 0.f);
+      v.y = float(j) * dy + (interior && j != mid ? jitter(rng) * dy : 0.f);
+      const float u = float(i) / float(cols - 1), w = float(j) / float(rows - 1);
+      v.r = 40 + 180 * u + (j > mid ? 30.f : 0.f);
+      v.g = 200 - 150 * w + 10 * std::sin(7 * u);
+      v.b = j <= mid ? 60.f + 20 * u : 220.f - 40 * w;
+      image.vertices.push_back(v);
+    }
+  }
+  for (uint32_t j = 0; j + 1 < rows; ++j) {
+    for (uint32_t i = 0; i + 1 < cols; ++i) {
+      const uint32_t a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
+      if ((i + j) % 2 == 0) {
+        image.triangles.push_back({{a, b, c}});
+        image.triangles.push_back({{a, c, d}});
+      } else {
+        image.triangles.push_back({{a, b, d}});
+        image.triangles.push_back({{b, c, d}});
+      }
+    }
+  }
+  for (uint32_t i = 0; i + 1 < cols; ++i) {
+    image.crease_edges.push_back(Edge::Of(id(i, 0), id(i + 1, 0)));
+    image.crease_edges.push_back(Edge::Of(id(i, rows - 1), id(i + 1, rows - 1)));
+    image.crease_edges.push_back(Edge::Of(id(i, mid), id(i + 1, mid)));
+  }
+  for (uint32_t j = 0; j + 1 < rows; ++j) {
+    image.crease_edges.push_back(Edge::Of(id(0, j), id(0, j + 1)));
+    image.crease_edges.push_back(Edge::Of(id(cols - 1, j), id(cols - 1, j + 1)));
+  }
+  image.corners = {id(0, 0), id(cols - 1, 0), id(0, rows - 1), id(cols - 1, rows - 1),
+                   id(0, mid), id(cols - 1, mid)};
+  FeaturePolyline line;
+  for (uint32_t i = 0; i < cols; ++i) line.vertices.push_back(id(i, mid));
+  image.polylines.push_back(line);
+  image.metadata.push_back({"generator", "synthetic grid"});
+
+  if (shuffle) {
+    std::vector<uint32_t> perm(image.vertices.size());
+    std::iota(perm.begin(), perm.end(), 0u);
+    std::shuffle(perm.begin(), perm.end(), rng);
+    std::vector<Vertex> vertices(perm.size());
+    for (size_t i = 0; i < perm.size(); ++i) vertices[perm[i]] = image.vertices[i];
+    image.vertices = vertices;
+    for (Triangle& t : image.triangles)
+      for (uint32_t& v : t.v) v = perm[v];
+    for (Edge& e : image.crease_edges) e = Edge::Of(perm[e.a], perm[e.b]);
+    for (uint32_t& c : image.corners) c = perm[c];
+    for (uint32_t& v : image.polylines[0].vertices) v = perm[v];
+  }
+  std::sort(image.crease_edges.begin(), image.crease_edges.end());
+  image.crease_edges.erase(std::unique(image.crease_edges.begin(), image.crease_edges.end()),
+                           image.crease_edges.end());
+  std::sort(image.corners.begin(), image.corners.end());
+  return image;
+}
+
+void FixPayloadChecksum(std::vector<uint8_t>* payload) {
+  if (payload->size() < 40) return;
+  const std::span<const uint8_t> bytes(*payload);
+  const uint32_t crc =
+      codec_internal::Crc32(bytes.subspan(40), codec_internal::Crc32(bytes.subspan(0, 36)));
+  for (int i = 0; i < 4; ++i) (*payload)[36 + i] = static_cast<uint8_t>(crc >> (8 * i));
+}
+
+}  // namespace sdvi::testing

@@ -1,0 +1,24 @@
+// Synthetic control meshes for the codec tests and benchmark: a jittered grid over a
+// width x height image, a feature polyline pair across it, tagged boundary and corners.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "sdvi/image.h"
+
+namespace sdvi::testing {
+
+// cols x rows grid vertices over [0,width] x [0,height], interior positions jittered
+// (deterministic, seeded), colours a smooth gradient with a jump across the middle row;
+// boundary edges and the middle row's edges tagged crease; the four image corners and
+// the polyline's two ends tagged corner; the middle row recorded as a feature polyline.
+// Vertices are numbered in a scrambled (but deterministic) order when shuffle is set.
+Image SyntheticGridImage(uint32_t width, uint32_t height, uint32_t cols, uint32_t rows,
+                         uint32_t seed = 1, bool shuffle = false);
+
+// Rewrites the CRC-32 field of a Draco payload so that damaged bytes behind it reach
+// the Draco decoder and the tag stream (for robustness tests).
+void FixPayloadChecksum(std::vector<uint8_t>* payload);
+
+}  // namespace sdvi::testing
