@@ -1,0 +1,148 @@
+// Stencil tables: evaluation equals direct refinement, weights sum to 1, regions equal
+// the whole, numbering follows tagged_mesh.h.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "sdvi/subdiv.h"
+#include "test_meshes.h"
+
+using namespace sdvi;
+
+namespace {
+
+Image FeatureGrid(uint32_t seed) {
+  const int nx = 9, ny = 7;
+  Image image = test::GridImage(nx, ny, 3, seed);
+  auto g = [](int i, int j) { return test::GridIndex(9, i, j); };
+  // An open polyline with implicit corners, a junction, a tagged corner and a closed loop.
+  for (int i = 1; i < 8; ++i) image.crease_edges.push_back(Edge::Of(g(i, 2), g(i + 1, 2)));
+  image.crease_edges.push_back(Edge::Of(g(5, 2), g(5, 1)));
+  image.crease_edges.push_back(Edge::Of(g(2, 4), g(3, 4)));
+  image.crease_edges.push_back(Edge::Of(g(3, 4), g(3, 5)));
+  image.crease_edges.push_back(Edge::Of(g(3, 5), g(2, 5)));
+  image.crease_edges.push_back(Edge::Of(g(2, 5), g(2, 4)));
+  std::sort(image.crease_edges.begin(), image.crease_edges.end());
+  image.corners = {g(3, 2), g(0, 0), g(9, 7)};
+  return image;
+}
+
+float MaxDiff(const Vertex& a, const Vertex& b) {
+  return std::max({std::abs(a.x - b.x), std::abs(a.y - b.y), std::abs(a.r - b.r), std::abs(a.g - b.g),
+                   std::abs(a.b - b.b)});
+}
+
+}  // namespace
+
+TEST_CASE("Stencil evaluation equals direct refinement", "[stencils]") {
+  const Image image = FeatureGrid(4);
+  for (int levels = 0; levels <= 4; ++levels)
+    for (bool to_limit : {false, true}) {
+      LimitSurfaceOptions options;
+      options.levels = levels;
+      options.to_limit = to_limit;
+      auto surface = BuildLimitSurface(image, options);
+      auto direct = RefineImage(image, options);
+      REQUIRE(surface.ok());
+      REQUIRE(direct.ok());
+      const auto fine = EvaluateSurface(*surface, image.vertices);
+      REQUIRE(fine.size() == direct->vertices.size());
+      CHECK(surface->triangles == direct->triangles);
+      CHECK(surface->parent_triangle == direct->parent_triangle);
+      CHECK(surface->vertex_tags == direct->vertex_tags);
+      CHECK(surface->crease_edges == direct->crease_edges);
+      CHECK(surface->triangles.size() == image.triangles.size() << (2 * levels));
+      float worst = 0;
+      for (size_t i = 0; i < fine.size(); ++i) worst = std::max(worst, MaxDiff(fine[i], direct->vertices[i]));
+      INFO("levels " << levels << " to_limit " << to_limit);
+      CHECK(worst < 2e-4f);
+      // Level 0 without limit is the control mesh; control vertices come first.
+      if (levels == 0 && !to_limit)
+        for (size_t i = 0; i < image.vertices.size(); ++i) CHECK(fine[i] == image.vertices[i]);
+    }
+}
+
+TEST_CASE("Every stencil's weights sum to 1 and refer to control vertices", "[stencils]") {
+  const Image image = FeatureGrid(5);
+  for (int levels : {1, 3}) {
+    LimitSurfaceOptions options;
+    options.levels = levels;
+    auto surface = BuildLimitSurface(image, options);
+    REQUIRE(surface.ok());
+    const StencilTable& s = surface->stencils;
+    CHECK(s.num_control == image.vertices.size());
+    REQUIRE(s.offsets.size() == s.rows() + 1);
+    double worst = 0;
+    for (size_t i = 0; i < s.rows(); ++i) {
+      double sum = 0;
+      for (uint32_t k = s.offsets[i]; k < s.offsets[i + 1]; ++k) {
+        REQUIRE(s.indices[k] < s.num_control);
+        if (k > s.offsets[i]) REQUIRE(s.indices[k - 1] < s.indices[k]);  // sorted, unique
+        sum += s.weights[k];
+      }
+      worst = std::max(worst, std::abs(sum - 1));
+    }
+    CHECK(worst < 1e-6);
+  }
+}
+
+TEST_CASE("Apply handles strides and any number of dimensions", "[stencils]") {
+  StencilTable t;
+  t.num_control = 3;
+  t.offsets = {0, 2, 3};
+  t.indices = {0, 2, 1};
+  t.weights = {0.25f, 0.75f, 1.0f};
+  std::vector<float> in(3 * 11);
+  for (size_t i = 0; i < in.size(); ++i) in[i] = float(i);
+  std::vector<float> out(2 * 12, -1);
+  t.Apply(in.data(), 11, out.data(), 12, 10);
+  for (int c = 0; c < 10; ++c) {
+    CHECK(out[c] == Approx(0.25 * c + 0.75 * (22 + c)));
+    CHECK(out[12 + c] == Approx(11 + c));
+  }
+  CHECK(out[10] == -1);  // untouched beyond dims
+  // Fewer control vertices than the table needs: EvaluateSurface returns nothing.
+  LimitSurface surface;
+  surface.stencils = t;
+  CHECK(EvaluateSurface(surface, std::vector<Vertex>(2)).empty());
+}
+
+TEST_CASE("A region's fine mesh equals the same part of the whole", "[stencils]") {
+  const Image image = FeatureGrid(6);
+  for (bool to_limit : {true, false}) {
+    LimitSurfaceOptions options;
+    options.levels = 3;
+    options.to_limit = to_limit;
+    auto whole = BuildLimitSurface(image, options);
+    REQUIRE(whole.ok());
+    options.control_triangles = {40, 41, 12, 60, 61, 62, 0};  // unsorted, scattered, on the boundary too
+    auto region = BuildLimitSurface(image, options);
+    REQUIRE(region.ok());
+    CHECK(region->stencils.num_control == image.vertices.size());
+    const auto fw = EvaluateSurface(*whole, image.vertices);
+    const auto fr = EvaluateSurface(*region, image.vertices);
+    REQUIRE(region->triangles.size() == 7u * 64u);
+    size_t r = 0;
+    float worst = 0;
+    for (size_t f = 0; f < whole->triangles.size(); ++f) {
+      const uint32_t p = whole->parent_triangle[f];
+      if (p != 0 && p != 12 && p != 40 && p != 41 && p != 60 && p != 61 && p != 62) continue;
+      REQUIRE(region->parent_triangle[r] == p);
+      for (int k = 0; k < 3; ++k) {
+        worst = std::max(worst, MaxDiff(fw[whole->triangles[f].v[k]], fr[region->triangles[r].v[k]]));
+        CHECK(whole->vertex_tags[whole->triangles[f].v[k]] == region->vertex_tags[region->triangles[r].v[k]]);
+      }
+      ++r;
+    }
+    CHECK(r == region->triangles.size());
+    CHECK(worst == 0.0f);
+    // Region crease edges are those of the whole mesh inside the region.
+    size_t region_creases = region->crease_edges.size();
+    CHECK(region_creases > 0);
+    // Direct refinement of the region agrees too.
+    auto direct = RefineImage(image, options);
+    REQUIRE(direct.ok());
+    CHECK(direct->triangles == region->triangles);
+    CHECK(direct->crease_edges == region->crease_edges);
+  }
+}

@@ -1,0 +1,151 @@
+// Tagged topology: tags, refinement numbering, validation errors (tagged_mesh.h).
+#include <catch2/catch.hpp>
+
+#include "sdvi/subdiv.h"
+#include "sdvi/tagged_mesh.h"
+#include "test_meshes.h"
+
+using namespace sdvi;
+
+namespace {
+StatusCode CodeOf(const Image& image) {
+  auto mesh = TaggedMesh::FromImage(image);
+  return mesh.ok() ? StatusCode::kOk : mesh.status().code();
+}
+}  // namespace
+
+TEST_CASE("Boundary is crease; endpoints, junctions and tagged vertices are corners", "[topology]") {
+  Image image = test::GridImage(4, 4, 0, 1);
+  auto g = [](int i, int j) { return test::GridIndex(4, i, j); };
+  // A polyline from interior (1,2) to (3,2), and a junction at (2,2) with a branch to (2,1).
+  image.crease_edges = {Edge::Of(g(1, 2), g(2, 2)), Edge::Of(g(2, 2), g(3, 2)), Edge::Of(g(2, 2), g(2, 1))};
+  std::sort(image.crease_edges.begin(), image.crease_edges.end());
+  image.corners = {g(1, 3)};
+  auto mesh = TaggedMesh::FromImage(image);
+  REQUIRE(mesh.ok());
+  CHECK(mesh->tag(g(1, 2)) == VertexTag::kCorner);   // endpoint
+  CHECK(mesh->tag(g(2, 2)) == VertexTag::kCorner);   // junction (degree 3)
+  CHECK(mesh->tag(g(1, 3)) == VertexTag::kCorner);   // tagged
+  CHECK(mesh->tag(g(1, 1)) == VertexTag::kSmooth);
+  CHECK(mesh->tag(g(2, 0)) == VertexTag::kCrease);   // boundary
+  CHECK(mesh->tag(g(0, 0)) == VertexTag::kCrease);   // boundary corner of the grid, degree 2
+  size_t boundary = 0;
+  for (size_t e = 0; e < mesh->num_edges(); ++e)
+    if (mesh->edge_triangles(e)[1] == kNoIndex) {
+      ++boundary;
+      CHECK(mesh->is_crease(e));
+    }
+  CHECK(boundary == 16);
+  CHECK(mesh->CreaseEdges().size() == 16 + 3);
+}
+
+TEST_CASE("Refinement numbering and inherited tags", "[topology]") {
+  test::Strip strip = test::StripImage(3, 5);
+  auto mesh = TaggedMesh::FromImage(strip.image);
+  REQUIRE(mesh.ok());
+  TaggedMesh fine = mesh->Refine();
+  CHECK(fine.num_vertices() == mesh->num_vertices() + mesh->num_edges());
+  CHECK(fine.num_triangles() == 4 * mesh->num_triangles());
+  CHECK(fine.num_edges() == 2 * mesh->num_edges() + 3 * mesh->num_triangles());
+  for (uint32_t v = 0; v < mesh->num_vertices(); ++v) CHECK(fine.tag(v) == mesh->tag(v));
+  for (size_t e = 0; e < mesh->num_edges(); ++e) {
+    const uint32_t m = mesh->num_vertices() + static_cast<uint32_t>(e);
+    CHECK(fine.tag(m) == (mesh->is_crease(e) ? VertexTag::kCrease : VertexTag::kSmooth));
+    CHECK(fine.is_crease(2 * e) == mesh->is_crease(e));
+    CHECK(fine.is_crease(2 * e + 1) == mesh->is_crease(e));
+  }
+  // Child triangles 4t..4t+3 keep the orientation (signed area sign) of triangle t.
+  const auto values = test::Values(strip.image);
+  const auto fine_values = test::ApplyRows(RefinementMasks(*mesh), values);
+  auto area = [](const std::vector<double>& p, const Triangle& t) {
+    const double* a = &p[5 * t.v[0]];
+    const double* b = &p[5 * t.v[1]];
+    const double* c = &p[5 * t.v[2]];
+    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+  };
+  for (size_t t = 0; t < mesh->num_triangles(); ++t)
+    for (int k = 0; k < 4; ++k)
+      CHECK((area(values, mesh->triangles()[t]) > 0) == (area(fine_values, fine.triangles()[4 * t + k]) > 0));
+  // Edge tables agree with triangles after refinement.
+  for (size_t f = 0; f < fine.num_triangles(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const Edge e = fine.edges()[fine.triangle_edges(f)[k]];
+      CHECK(e == Edge::Of(fine.triangles()[f].v[k], fine.triangles()[f].v[(k + 1) % 3]));
+    }
+}
+
+TEST_CASE("Bad meshes give specific errors", "[topology]") {
+  const Image good = test::GridImage(2, 2, 0, 3);
+  REQUIRE(CodeOf(good) == StatusCode::kOk);
+  {
+    Image bad = good;
+    bad.vertices.clear();
+    CHECK(CodeOf(bad) == StatusCode::kEmptyInput);
+  }
+  {
+    Image bad = good;
+    bad.triangles.clear();
+    CHECK(CodeOf(bad) == StatusCode::kEmptyInput);
+  }
+  {
+    Image bad = good;
+    bad.triangles[1].v[2] = 9;  // 9 vertices: 0..8
+    CHECK(CodeOf(bad) == StatusCode::kIndexOutOfRange);
+  }
+  {
+    Image bad = good;
+    bad.triangles[2].v[1] = bad.triangles[2].v[0];
+    CHECK(CodeOf(bad) == StatusCode::kDegenerateTriangle);
+  }
+  {
+    Image bad = good;
+    const Triangle t = bad.triangles[3];
+    bad.triangles.push_back(Triangle{{t.v[1], t.v[0], t.v[2]}});  // same triangle, flipped
+    CHECK(CodeOf(bad) == StatusCode::kDuplicateTriangle);
+  }
+  {
+    Image bad = good;
+    // A third and fourth triangle on the interior edge (0,4) of the first quad diagonal.
+    bad.vertices.push_back(test::MakeVertex(5, 5, 1, 9));
+    bad.triangles.push_back(Triangle{{0, 4, 9}});
+    CHECK(CodeOf(bad) == StatusCode::kNonManifoldEdge);
+  }
+  {
+    Image bad = good;
+    bad.crease_edges = {Edge{0, 8}};  // opposite grid corners
+    CHECK(CodeOf(bad) == StatusCode::kCreaseNotAnEdge);
+    bad.crease_edges = {Edge{3, 3}};
+    CHECK(CodeOf(bad) == StatusCode::kCreaseNotAnEdge);
+    bad.crease_edges = {Edge{3, 30}};
+    CHECK(CodeOf(bad) == StatusCode::kIndexOutOfRange);
+  }
+  {
+    Image bad = good;
+    bad.corners = {100};
+    CHECK(CodeOf(bad) == StatusCode::kIndexOutOfRange);
+  }
+  {
+    Image bad = good;
+    bad.vertices[4].g = std::nanf("");
+    auto surface = BuildLimitSurface(bad, {});
+    REQUIRE_FALSE(surface.ok());
+    CHECK(surface.status().code() == StatusCode::kNonFinite);
+  }
+  {
+    LimitSurfaceOptions options;
+    options.levels = 7;
+    CHECK(BuildLimitSurface(good, options).status().code() == StatusCode::kInvalidArgument);
+    options.levels = -1;
+    CHECK(RefineImage(good, options).status().code() == StatusCode::kInvalidArgument);
+    options.levels = 6;
+    options.max_fine_triangles = 1000;
+    CHECK(BuildLimitSurface(good, options).status().code() == StatusCode::kLimitExceeded);
+    options = {};
+    options.control_triangles = {8};
+    CHECK(BuildLimitSurface(good, options).status().code() == StatusCode::kIndexOutOfRange);
+  }
+  // Error messages name the element.
+  Image bad = good;
+  bad.triangles[2].v[1] = bad.triangles[2].v[0];
+  CHECK(TaggedMesh::FromImage(bad).status().message().find("triangle 2") != std::string::npos);
+}
