@@ -1,7 +1,173 @@
-// Placeholder until the module's command lands; replaced by its owner.
+// sdvi convert (mesh JSON <-> .sdvi) and sdvi info (what a .sdvi file holds).
 #include <cstdio>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "args.h"
 #include "commands.h"
+#include "sdvi/file_util.h"
+#include "sdvi/format.h"
+#include "sdvi/mesh_json.h"
+
 namespace sdvi::cli {
-int RunConvert(const CommandArgs&) { std::fprintf(stderr, "sdvi: command not built yet\n"); return 2; }
-int RunInfo(const CommandArgs&) { std::fprintf(stderr, "sdvi: command not built yet\n"); return 2; }
+namespace {
+
+enum class FileKind { kSdvi, kMeshJson };
+
+StatusOr<FileKind> KindOfOutput(const std::string& path) {
+  const std::string ext = FileExtension(path);
+  if (ext == "sdvi") return FileKind::kSdvi;
+  if (ext == "json") return FileKind::kMeshJson;
+  return Status(StatusCode::kInvalidArgument,
+                path + ": cannot tell the output format from the extension '" + ext +
+                    "' (expected .sdvi or .json)");
+}
+
+// An input is .sdvi when it carries the identifier, mesh JSON when it has that extension.
+StatusOr<Image> LoadAny(const std::string& path) {
+  SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, ReadFileBytes(path));
+  const bool sdvi_identifier = bytes.size() >= 8 && std::equal(bytes.begin() + 4, bytes.begin() + 8,
+                                                               "SDVI");
+  if (!sdvi_identifier && FileExtension(path) == "json") {
+    if (bytes.empty()) return Status(StatusCode::kEmptyInput, path + ": the file is empty");
+    return ParseMeshJson(
+        std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), path);
+  }
+  SDVI_ASSIGN_OR_RETURN(SdviFile file, DecodeSdvi(bytes, path));
+  if (file.payload != PayloadKind::kRaw)
+    return Status(StatusCode::kUnsupportedFormat,
+                  path + ": the mesh is Draco-compressed; run `sdvi decompress` first");
+  return std::move(file.image);
+}
+
+// Vertices that are corners: tagged explicitly, or with crease degree 1 or >= 3 counting
+// the listed crease edges and the mesh boundary (DESIGN.md section 2).
+size_t CountCorners(const Image& image) {
+  std::map<Edge, int> edge_triangles;
+  for (const Triangle& t : image.triangles)
+    for (int e = 0; e < 3; ++e) ++edge_triangles[Edge::Of(t.v[e], t.v[(e + 1) % 3])];
+  std::vector<int> crease_degree(image.vertices.size(), 0);
+  auto count_edge = [&](const Edge& e) {
+    ++crease_degree[e.a];
+    ++crease_degree[e.b];
+  };
+  for (const Edge& e : image.crease_edges) count_edge(e);
+  for (const auto& [e, n] : edge_triangles)
+    if (n == 1 && !std::binary_search(image.crease_edges.begin(), image.crease_edges.end(), e))
+      count_edge(e);
+  size_t corners = 0;
+  for (size_t v = 0; v < crease_degree.size(); ++v) {
+    const bool explicit_corner =
+        std::binary_search(image.corners.begin(), image.corners.end(), static_cast<uint32_t>(v));
+    if (explicit_corner || crease_degree[v] == 1 || crease_degree[v] >= 3) ++corners;
+  }
+  return corners;
+}
+
+}  // namespace
+
+int RunConvert(const CommandArgs& args) {
+  auto parsed = Args::Parse(args, ArgSpec{});
+  if (!parsed.ok()) return ReportError("convert", parsed.status());
+  if (parsed->positional().size() != 2)
+    return ReportError("convert", Status(StatusCode::kInvalidArgument,
+                                         "expected IN and OUT (IN.json|IN.sdvi OUT.sdvi|OUT.json)"));
+  const std::string& in = parsed->positional()[0];
+  const std::string& out = parsed->positional()[1];
+  auto kind = KindOfOutput(out);
+  if (!kind.ok()) return ReportError("convert", kind.status());
+  auto image = LoadAny(in);
+  if (!image.ok()) return ReportError("convert", image.status());
+  // Outputs are always in canonical form (sdvi/format.h).
+  const Image canonical = CanonicalizeImage(*image);
+  const Status written = *kind == FileKind::kSdvi ? WriteSdvi(out, canonical)
+                                                  : WriteMeshJsonFile(out, canonical);
+  if (!written.ok()) return ReportError("convert", written);
+  return 0;
+}
+
+int RunInfo(const CommandArgs& args) {
+  auto parsed = Args::Parse(args, ArgSpec{{}, {"--json"}});
+  if (!parsed.ok()) return ReportError("info", parsed.status());
+  if (parsed->positional().size() != 1)
+    return ReportError("info", Status(StatusCode::kInvalidArgument, "expected one FILE.sdvi"));
+  const std::string& path = parsed->positional()[0];
+  auto file = ReadSdviFile(path);
+  if (!file.ok()) return ReportError("info", file.status());
+  const Image& image = file->image;
+  const bool raw = file->payload == PayloadKind::kRaw;
+  const uint64_t vertices = raw ? image.vertices.size() : file->payload_summary.vertex_count;
+  const uint64_t triangles = raw ? image.triangles.size() : file->payload_summary.triangle_count;
+  const uint64_t pixels = uint64_t{image.width} * image.height;
+  const uint64_t paper = PaperSizeBytes(vertices, triangles);
+  const bool optional_data = !image.corners.empty() || !image.polylines.empty() ||
+                             !image.pairs.empty() || !image.metadata.empty();
+  const bool narrow = vertices <= kNarrowProfileMaxVertices;
+
+  nlohmann::ordered_json j;
+  j["file"] = path;
+  j["version"] = std::to_string(file->version_major) + "." + std::to_string(file->version_minor);
+  j["payload"] = raw ? "raw" : "draco";
+  j["profile"] = narrow ? "narrow" : "wide";
+  j["width"] = image.width;
+  j["height"] = image.height;
+  j["vertices"] = vertices;
+  j["triangles"] = triangles;
+  if (raw) {
+    j["tagged_triangles"] = {{"3", file->tagged3}, {"2", file->tagged2}, {"1", file->tagged1},
+                             {"0", triangles - file->tagged3 - file->tagged2 - file->tagged1}};
+    j["crease_edges"] = image.crease_edges.size();
+    j["corners_explicit"] = image.corners.size();
+    j["corners"] = CountCorners(image);
+  }
+  j["polylines"] = image.polylines.size();
+  j["pairs"] = image.pairs.size();
+  j["metadata_entries"] = image.metadata.size();
+  j["paper_size_bytes"] = paper;
+  j["file_bytes"] = file->file_bytes;
+  if (raw) {
+    j["container_overhead_bytes"] = static_cast<int64_t>(file->file_bytes) - static_cast<int64_t>(paper);
+    // spec/FORMAT.md: a raw narrow file with no optional data is at most paper + 64 bytes.
+    if (narrow && !optional_data) j["within_paper_bound"] = file->file_bytes <= paper + 64;
+  } else {
+    j["compressed_payload_bytes"] = file->compressed_payload.size();
+  }
+  j["compression_ratio"] = vertices ? static_cast<double>(pixels) / vertices : 0.0;
+  j["bits_per_pixel"] = pixels ? 8.0 * file->file_bytes / pixels : 0.0;
+
+  if (parsed->flag("--json")) {
+    std::printf("%s\n", j.dump(2).c_str());
+    return 0;
+  }
+  std::printf("file               %s\n", path.c_str());
+  std::printf("format version     %s (%s payload, %s profile)\n",
+              j["version"].get<std::string>().c_str(), raw ? "raw" : "Draco",
+              narrow ? "narrow uint16" : "wide uint32");
+  std::printf("image size         %u x %u pixels\n", image.width, image.height);
+  std::printf("vertices           %llu\n", static_cast<unsigned long long>(vertices));
+  std::printf("triangles          %llu\n", static_cast<unsigned long long>(triangles));
+  if (raw) {
+    std::printf("tagged triangles   3: %u  2: %u  1: %u  untagged: %llu\n", file->tagged3,
+                file->tagged2, file->tagged1,
+                static_cast<unsigned long long>(triangles - file->tagged3 - file->tagged2 -
+                                                file->tagged1));
+    std::printf("crease edges       %zu\n", image.crease_edges.size());
+    std::printf("corners            %zu (%zu explicit)\n", CountCorners(image),
+                image.corners.size());
+  }
+  std::printf("feature layer      %zu polylines, %zu pairs\n", image.polylines.size(),
+              image.pairs.size());
+  std::printf("metadata entries   %zu\n", image.metadata.size());
+  std::printf("paper size         %llu bytes (20 V + 6 T + 8)\n",
+              static_cast<unsigned long long>(paper));
+  std::printf("file size          %llu bytes", static_cast<unsigned long long>(file->file_bytes));
+  if (raw) std::printf(" (container adds %lld)", static_cast<long long>(file->file_bytes) - static_cast<long long>(paper));
+  else std::printf(" (Draco payload %zu)", file->compressed_payload.size());
+  std::printf("\n");
+  std::printf("compression ratio  %.2f pixels per vertex\n", j["compression_ratio"].get<double>());
+  std::printf("bits per pixel     %.3f\n", j["bits_per_pixel"].get<double>());
+  return 0;
+}
+
 }  // namespace sdvi::cli
