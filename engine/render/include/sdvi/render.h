@@ -45,10 +45,62 @@ CoverageMap MapPixels(const std::vector<Triangle>& triangles, const std::vector<
 struct RenderOptions {
   Viewport viewport;   // output size and mapping
   int levels = -1;     // subdivision level; -1 = chosen from the scale (~1 output px)
+  // Level choice when levels = -1 (ChooseRenderLevels): the smallest r >= min_levels whose
+  // fine edges (mean control edge length / 2^r, in output pixels) are <= max_fine_edge_px,
+  // capped at max_levels. Inside a fine triangle colour is interpolated linearly.
+  double max_fine_edge_px = 1.0;
+  int min_levels = 2;  // the colour fit's level (paper: r = 2); never render coarser
+  int max_levels = 6;
+  bool antialias = true;  // coverage anti-aliasing of the domain edge
+  int threads = 0;        // worker threads for scan conversion; 0 = hardware concurrency
 };
 
 // Renders image to an RGBA raster (colours 0..255 sRGB, alpha 0..1 coverage of the domain).
+// Only control triangles whose surface can reach the viewport are refined (region
+// rendering). Errors: kInvalidArgument (viewport), kEmptyInput, kNonFinite,
+// kLimitExceeded (output too large, coordinates beyond the fixed-point range), and the
+// topology errors of BuildLimitSurface.
 StatusOr<Raster> Render(const Image& image, const RenderOptions& options);
+
+// ---- Building blocks (also used by tests, the colour fit and the benchmarks) ----
+
+// Scan conversion works in output pixels with kSubpixelBits of fixed-point precision;
+// vertices farther than kMaxOutputCoord output pixels from the viewport origin are
+// outside the exact range (MapPixels skips their triangles, Render reports kLimitExceeded).
+inline constexpr int kSubpixelBits = 8;
+inline constexpr double kMaxOutputCoord = double(1 << 21);  // products fit in int64
+
+// Fill rule (one for MapPixels and every render): a pixel belongs to a triangle when its
+// centre is strictly inside, or exactly on a top or left edge (top-left rule), evaluated
+// with exact integer edge functions on fixed-point vertices, so two triangles sharing an
+// edge never both own, nor both miss, a pixel centre on it. Degenerate (zero-area after
+// snapping) triangles own nothing. Folded triangles (the smoothing of positions can fold
+// fine triangles over each other): the lowest fine triangle index wins. Since the fine
+// triangles are ordered by parent control triangle, this is also "lowest parent wins".
+
+// Renders fine triangles whose positions and colours are fine[i] directly: colour =
+// barycentric interpolation of the vertices' (r, g, b), clamped to 0..255; alpha 1 where a
+// pixel is owned, 0 elsewhere. When boundary is non-null, pixels within one output pixel of
+// a boundary edge get alpha = clamp(0.5 + signed distance) (coverage of the domain edge),
+// and uncovered ones there take the colour of the nearest boundary point.
+Raster RenderFineMesh(const std::vector<Triangle>& triangles, const std::vector<Vertex>& fine,
+                      const Viewport& viewport, const std::vector<Edge>* boundary = nullptr,
+                      int threads = 0);
+
+// Edges used by exactly one triangle (the domain edge: outer boundary and holes), sorted.
+// When tags is non-null, only edges whose two endpoints are not smooth are considered (a
+// boundary edge is always crease), which makes this cheap on fine meshes.
+std::vector<Edge> MeshBoundaryEdges(const std::vector<Triangle>& triangles,
+                                    const std::vector<VertexTag>* tags = nullptr);
+
+// The subdivision level Render uses for options.levels = -1 (see RenderOptions).
+int ChooseRenderLevels(const Image& image, const RenderOptions& options);
+
+// Control triangles whose limit surface can reach the viewport grown by margin_px output
+// pixels: a triangle's limit patch lies in the convex hull of its vertices' one-rings, so
+// the test uses that hull's bounding box. Sorted ascending.
+std::vector<uint32_t> ControlTrianglesInViewport(const Image& image, const Viewport& viewport,
+                                                 double margin_px);
 
 // Metrics of DESIGN.md section 9 between a reconstruction and a reference of equal size,
 // over the pixels where the reference's alpha (if any) and the reconstruction's alpha are
@@ -60,6 +112,13 @@ struct ImageMetrics {
   double mse = 0;
   uint64_t pixels = 0;    // domain pixels compared
 };
+// MSSIM details: per colour channel, local means, variances (population) and covariance
+// under a normalised 11x11 Gaussian window (sigma 1.5) restricted to the compared pixels
+// (normalised convolution; identical to the plain window when every pixel counts), then
+// SSIM averaged over the compared pixels at least 5 px from the image border (all compared
+// pixels when the image is smaller than 11 px). C1 = (0.01 * 255)^2, C2 = (0.03 * 255)^2.
+// psnr is +infinity when the images are equal. Errors: kInvalidArgument (sizes differ),
+// kEmptyInput (empty image or no pixel in both domains).
 StatusOr<ImageMetrics> CompareImages(const Raster& reconstruction, const Raster& reference);
 
 }  // namespace sdvi

@@ -1,0 +1,155 @@
+// Image metrics of DESIGN.md section 9: PSNR, MSSIM (Wang et al. 2004), mean absolute error.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "sdvi/render.h"
+
+namespace sdvi {
+namespace {
+
+constexpr int kRadius = 5;         // 11x11 window
+constexpr double kSigma = 1.5;
+constexpr double kC1 = (0.01 * 255) * (0.01 * 255);
+constexpr double kC2 = (0.03 * 255) * (0.03 * 255);
+
+std::array<double, 2 * kRadius + 1> GaussianWindow() {
+  std::array<double, 2 * kRadius + 1> g{};
+  double sum = 0;
+  for (int k = -kRadius; k <= kRadius; ++k) sum += g[k + kRadius] = std::exp(-k * k / (2 * kSigma * kSigma));
+  for (double& v : g) v /= sum;
+  return g;
+}
+
+// Colour channel c (0..2) of pixel p; grey rasters count as R = G = B.
+inline double ColourAt(const Raster& r, size_t p, int c) {
+  return r.data[p * r.channels + (r.channels >= 3 ? c : 0)];
+}
+
+// Mean SSIM of one channel over the compared pixels (mask), at pixels >= kRadius from the
+// border when the image allows it. Rows are filtered horizontally into a ring of
+// 2*kRadius+1 rows of the six moments, then combined vertically.
+struct SsimSum {
+  double sum = 0;
+  uint64_t count = 0;
+};
+SsimSum ChannelSsim(const std::vector<double>& x, const std::vector<double>& y,
+                    const std::vector<uint8_t>& mask, int w, int h) {
+  const auto g = GaussianWindow();
+  constexpr int kWin = 2 * kRadius + 1;
+  constexpr int kMoments = 6;  // m, m x, m y, m x^2, m y^2, m x y
+  std::vector<double> ring(size_t(kWin) * kMoments * w, 0.0);
+  const bool crop = w >= kWin && h >= kWin;
+  SsimSum out;
+  std::vector<double> acc(size_t(kMoments) * w);
+  for (int yi = 0; yi < h + kRadius; ++yi) {
+    if (yi < h) {
+      double* row = &ring[size_t(yi % kWin) * kMoments * w];
+      for (int xo = 0; xo < w; ++xo) {
+        double s[kMoments] = {0, 0, 0, 0, 0, 0};
+        for (int k = -kRadius; k <= kRadius; ++k) {
+          const int xs = xo + k;
+          if (xs < 0 || xs >= w) continue;
+          const size_t p = size_t(yi) * w + xs;
+          if (!mask[p]) continue;
+          const double gw = g[k + kRadius], a = x[p], b = y[p];
+          s[0] += gw;
+          s[1] += gw * a;
+          s[2] += gw * b;
+          s[3] += gw * a * a;
+          s[4] += gw * b * b;
+          s[5] += gw * a * b;
+        }
+        for (int m = 0; m < kMoments; ++m) row[size_t(m) * w + xo] = s[m];
+      }
+    }
+    const int yo = yi - kRadius;
+    if (yo < 0) continue;
+    if (crop && (yo < kRadius || yo >= h - kRadius)) continue;
+    std::fill(acc.begin(), acc.end(), 0.0);
+    for (int k = -kRadius; k <= kRadius; ++k) {
+      const int ys = yo + k;
+      if (ys < 0 || ys >= h) continue;
+      const double gw = g[k + kRadius];
+      const double* row = &ring[size_t(ys % kWin) * kMoments * w];
+      for (size_t q = 0; q < acc.size(); ++q) acc[q] += gw * row[q];
+    }
+    for (int xo = crop ? kRadius : 0; xo < (crop ? w - kRadius : w); ++xo) {
+      if (!mask[size_t(yo) * w + xo]) continue;
+      const double wsum = acc[xo];
+      const double mx = acc[size_t(1) * w + xo] / wsum, my = acc[size_t(2) * w + xo] / wsum;
+      const double vx = acc[size_t(3) * w + xo] / wsum - mx * mx;
+      const double vy = acc[size_t(4) * w + xo] / wsum - my * my;
+      const double cxy = acc[size_t(5) * w + xo] / wsum - mx * my;
+      out.sum += ((2 * mx * my + kC1) * (2 * cxy + kC2)) / ((mx * mx + my * my + kC1) * (vx + vy + kC2));
+      ++out.count;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+StatusOr<ImageMetrics> CompareImages(const Raster& reconstruction, const Raster& reference) {
+  const Raster& a = reconstruction;
+  const Raster& b = reference;
+  if (a.empty() || b.empty())
+    return Status(StatusCode::kEmptyInput, "compare: an image is empty (" + std::to_string(a.width) + "x" +
+                                               std::to_string(a.height) + " vs " + std::to_string(b.width) +
+                                               "x" + std::to_string(b.height) + ")");
+  if (a.width != b.width || a.height != b.height)
+    return Status(StatusCode::kInvalidArgument,
+                  "compare: sizes differ: reconstruction " + std::to_string(a.width) + "x" +
+                      std::to_string(a.height) + ", reference " + std::to_string(b.width) + "x" +
+                      std::to_string(b.height));
+  for (const Raster* r : {&a, &b}) {
+    if (r->channels < 1 || r->channels > 4 ||
+        r->data.size() != size_t(r->width) * r->height * r->channels)
+      return Status(StatusCode::kInvalidArgument,
+                    "compare: raster has " + std::to_string(r->channels) + " channels and " +
+                        std::to_string(r->data.size()) + " samples; expected 1-4 channels, width*height*channels");
+  }
+  const int w = a.width, h = a.height;
+  const size_t npix = size_t(w) * h;
+  std::vector<uint8_t> mask(npix, 1);
+  uint64_t count = 0;
+  for (size_t p = 0; p < npix; ++p) {
+    bool in = true;
+    if (a.has_alpha() && !(a.data[p * a.channels + a.channels - 1] > 0.5f)) in = false;
+    if (b.has_alpha() && !(b.data[p * b.channels + b.channels - 1] > 0.5f)) in = false;
+    mask[p] = in;
+    count += in;
+  }
+  if (count == 0) return Status(StatusCode::kEmptyInput, "compare: no pixel lies in both images' domains (alpha > 0.5)");
+
+  const bool grey = a.channels < 3 && b.channels < 3;
+  const int nchan = grey ? 1 : 3;
+  double sq = 0, abs_sum = 0, ssim_sum = 0;
+  uint64_t ssim_count = 0;
+  std::vector<double> xa(npix), xb(npix);
+  for (int c = 0; c < nchan; ++c) {
+    for (size_t p = 0; p < npix; ++p) {
+      xa[p] = ColourAt(a, p, c);
+      xb[p] = ColourAt(b, p, c);
+      if (!mask[p]) continue;
+      const double d = xa[p] - xb[p];
+      sq += d * d;
+      abs_sum += std::abs(d);
+    }
+    const SsimSum s = ChannelSsim(xa, xb, mask, w, h);
+    ssim_sum += s.count ? s.sum / double(s.count) : 0.0;
+    ssim_count += s.count;
+  }
+  ImageMetrics m;
+  m.pixels = count;
+  m.mse = sq / (double(count) * nchan);
+  m.mean_error = abs_sum / (double(count) * nchan);
+  m.psnr = m.mse > 0 ? 10.0 * std::log10(255.0 * 255.0 / m.mse) : std::numeric_limits<double>::infinity();
+  m.mssim = ssim_count ? ssim_sum / nchan : std::numeric_limits<double>::quiet_NaN();
+  return m;
+}
+
+}  // namespace sdvi

@@ -1,0 +1,206 @@
+// Scan conversion of fine triangles: the pixel -> fine triangle map (MapPixels) and the
+// direct colour render with domain-edge coverage (RenderFineMesh). Rules in sdvi/render.h.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "scan_convert.h"
+#include "sdvi/render.h"
+
+namespace sdvi {
+namespace render_internal {
+
+std::vector<FixedPoint> ToFixedAll(const std::vector<Vertex>& fine, const Viewport& vp, int threads) {
+  std::vector<FixedPoint> out(fine.size());
+  ForEachChunk(fine.size(), threads, [&](size_t s0, size_t s1) {
+    for (size_t i = s0; i < s1; ++i) out[i] = ToFixed(fine[i], vp);
+  });
+  return out;
+}
+
+namespace {
+
+// True when the triangle's candidate rows may intersect [row0, row1).
+inline bool MayTouchRows(const FixedPoint& a, const FixedPoint& b, const FixedPoint& c, int row0,
+                         int row1) {
+  const int64_t miny = std::min({a.y, b.y, c.y}), maxy = std::max({a.y, b.y, c.y});
+  return FloorDiv(maxy - kHalf, kOne) >= row0 && CeilDiv(miny - kHalf, kOne) < row1;
+}
+
+bool ValidViewport(const Viewport& vp) {
+  return vp.width > 0 && vp.height > 0 && std::isfinite(vp.scale_x) && std::isfinite(vp.scale_y) &&
+         vp.scale_x > 0 && vp.scale_y > 0 && std::isfinite(vp.origin_x) && std::isfinite(vp.origin_y);
+}
+
+}  // namespace
+}  // namespace render_internal
+
+using namespace render_internal;
+
+CoverageMap MapPixels(const std::vector<Triangle>& triangles, const std::vector<Vertex>& fine,
+                      const Viewport& viewport) {
+  CoverageMap map;
+  if (!ValidViewport(viewport)) return map;
+  map.width = viewport.width;
+  map.height = viewport.height;
+  const size_t npix = size_t(viewport.width) * size_t(viewport.height);
+  constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
+  std::vector<PixelSample> dense(npix);
+  for (auto& s : dense) s.triangle = kNone;
+  const std::vector<FixedPoint> pts = ToFixedAll(fine, viewport, 0);
+  const uint32_t nv = uint32_t(fine.size());
+  const int width = viewport.width;
+  ForEachRowBand(viewport.height, 0, [&](int, int row0, int row1) {
+    TriangleSetup s;
+    for (uint32_t t = 0; t < triangles.size(); ++t) {
+      const auto& v = triangles[t].v;
+      if (v[0] >= nv || v[1] >= nv || v[2] >= nv) continue;
+      const FixedPoint &a = pts[v[0]], &b = pts[v[1]], &c = pts[v[2]];
+      if (!a.valid || !b.valid || !c.valid || !MayTouchRows(a, b, c, row0, row1)) continue;
+      if (!SetupTriangle(a, b, c, width, viewport.height, s)) continue;
+      const double inv_area = 1.0 / double(s.area);
+      ScanTriangle(s, row0, row1, [&](int i, int j, int64_t e0, int64_t e1, int64_t e2) {
+        PixelSample& ps = dense[size_t(j) * width + i];
+        if (ps.triangle != kNone) return;  // lowest fine triangle index wins
+        float w[3];
+        w[s.slot[0]] = float(double(e0) * inv_area);
+        w[s.slot[1]] = float(double(e1) * inv_area);
+        w[s.slot[2]] = float(double(e2) * inv_area);
+        ps.triangle = t;
+        ps.w0 = w[0], ps.w1 = w[1], ps.w2 = w[2];
+      });
+    }
+  });
+  size_t count = 0;
+  for (const auto& s : dense) count += s.triangle != kNone;
+  map.samples.reserve(count);
+  for (size_t p = 0; p < npix; ++p) {
+    if (dense[p].triangle == kNone) continue;
+    PixelSample s = dense[p];
+    s.pixel = uint32_t(p);
+    map.samples.push_back(s);
+  }
+  return map;
+}
+
+namespace {
+
+inline float Clamp255(double v) { return float(v < 0 ? 0 : v > 255 ? 255 : v); }
+
+// Domain-edge coverage: see RenderFineMesh in sdvi/render.h.
+void AntialiasBoundary(const std::vector<Edge>& boundary, const std::vector<Vertex>& fine,
+                       const Viewport& vp, Raster& out) {
+  struct Candidate {
+    uint32_t pixel;
+    float distance;
+    float r, g, b;
+  };
+  std::vector<Candidate> cand;
+  const uint32_t nv = uint32_t(fine.size());
+  for (const Edge& e : boundary) {
+    if (e.a >= nv || e.b >= nv) continue;
+    const Vertex &va = fine[e.a], &vb = fine[e.b];
+    const double ax = (va.x - vp.origin_x) * vp.scale_x, ay = (va.y - vp.origin_y) * vp.scale_y;
+    const double bx = (vb.x - vp.origin_x) * vp.scale_x, by = (vb.y - vp.origin_y) * vp.scale_y;
+    if (!std::isfinite(ax + ay + bx + by)) continue;
+    const double reach = 0.5;  // coverage changes only within half a pixel of the edge
+    const double i0d = std::floor(std::min(ax, bx) - reach - 0.5), i1d = std::ceil(std::max(ax, bx) + reach - 0.5);
+    const double j0d = std::floor(std::min(ay, by) - reach - 0.5), j1d = std::ceil(std::max(ay, by) + reach - 0.5);
+    if (i1d < 0 || j1d < 0 || i0d >= vp.width || j0d >= vp.height) continue;
+    const int i0 = int(std::max(0.0, i0d)), i1 = int(std::min(double(vp.width - 1), i1d));
+    const int j0 = int(std::max(0.0, j0d)), j1 = int(std::min(double(vp.height - 1), j1d));
+    const double dx = bx - ax, dy = by - ay, len2 = dx * dx + dy * dy;
+    for (int j = j0; j <= j1; ++j) {
+      for (int i = i0; i <= i1; ++i) {
+        const double px = i + 0.5 - ax, py = j + 0.5 - ay;
+        double t = len2 > 0 ? (px * dx + py * dy) / len2 : 0.0;
+        t = std::clamp(t, 0.0, 1.0);
+        const double qx = px - t * dx, qy = py - t * dy;
+        const double d = std::sqrt(qx * qx + qy * qy);
+        if (d >= reach) continue;
+        cand.push_back({uint32_t(size_t(j) * vp.width + i), float(d),
+                        float(va.r + t * (vb.r - va.r)), float(va.g + t * (vb.g - va.g)),
+                        float(va.b + t * (vb.b - va.b))});
+      }
+    }
+  }
+  std::stable_sort(cand.begin(), cand.end(), [](const Candidate& x, const Candidate& y) {
+    return x.pixel != y.pixel ? x.pixel < y.pixel : x.distance < y.distance;
+  });
+  for (size_t k = 0; k < cand.size(); ++k) {
+    if (k > 0 && cand[k].pixel == cand[k - 1].pixel) continue;  // nearest edge only
+    const Candidate& c = cand[k];
+    float* px = &out.data[size_t(c.pixel) * 4];
+    if (px[3] > 0) {
+      px[3] = std::min(1.0f, 0.5f + c.distance);
+    } else {
+      px[0] = Clamp255(c.r), px[1] = Clamp255(c.g), px[2] = Clamp255(c.b);
+      px[3] = std::max(0.0f, 0.5f - c.distance);
+    }
+  }
+}
+
+}  // namespace
+
+Raster RenderFineMesh(const std::vector<Triangle>& triangles, const std::vector<Vertex>& fine,
+                      const Viewport& viewport, const std::vector<Edge>* boundary, int threads) {
+  if (!ValidViewport(viewport)) return Raster();
+  Raster out(viewport.width, viewport.height, 4);
+  const std::vector<FixedPoint> pts = ToFixedAll(fine, viewport, threads);
+  const uint32_t nv = uint32_t(fine.size());
+  const int width = viewport.width;
+  float* data = out.data.data();
+  ForEachRowBand(viewport.height, threads, [&](int, int row0, int row1) {
+    TriangleSetup s;
+    for (uint32_t t = 0; t < triangles.size(); ++t) {
+      const auto& v = triangles[t].v;
+      if (v[0] >= nv || v[1] >= nv || v[2] >= nv) continue;
+      const FixedPoint &a = pts[v[0]], &b = pts[v[1]], &c = pts[v[2]];
+      if (!a.valid || !b.valid || !c.valid || !MayTouchRows(a, b, c, row0, row1)) continue;
+      if (!SetupTriangle(a, b, c, width, viewport.height, s)) continue;
+      const double inv_area = 1.0 / double(s.area);
+      const Vertex* cv[3] = {&fine[v[s.slot[0]]], &fine[v[s.slot[1]]], &fine[v[s.slot[2]]]};
+      ScanTriangle(s, row0, row1, [&](int i, int j, int64_t e0, int64_t e1, int64_t e2) {
+        float* px = data + (size_t(j) * width + i) * 4;
+        if (px[3] != 0) return;  // lowest fine triangle index wins
+        const double w0 = double(e0) * inv_area, w1 = double(e1) * inv_area, w2 = double(e2) * inv_area;
+        px[0] = Clamp255(w0 * cv[0]->r + w1 * cv[1]->r + w2 * cv[2]->r);
+        px[1] = Clamp255(w0 * cv[0]->g + w1 * cv[1]->g + w2 * cv[2]->g);
+        px[2] = Clamp255(w0 * cv[0]->b + w1 * cv[1]->b + w2 * cv[2]->b);
+        px[3] = 1.0f;
+      });
+    }
+  });
+  if (boundary) AntialiasBoundary(*boundary, fine, viewport, out);
+  return out;
+}
+
+std::vector<Edge> MeshBoundaryEdges(const std::vector<Triangle>& triangles,
+                                    const std::vector<VertexTag>* tags) {
+  std::vector<uint64_t> keys;
+  keys.reserve(tags ? triangles.size() / 4 : triangles.size() * 3);
+  auto smooth = [&](uint32_t v) {
+    return tags && (v >= tags->size() || (*tags)[v] == VertexTag::kSmooth);
+  };
+  for (const Triangle& t : triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = t.v[k], b = t.v[(k + 1) % 3];
+      if (a == b || smooth(a) || smooth(b)) continue;
+      const Edge e = Edge::Of(a, b);
+      keys.push_back((uint64_t(e.a) << 32) | e.b);
+    }
+  }
+  std::sort(keys.begin(), keys.end());
+  std::vector<Edge> out;
+  for (size_t i = 0; i < keys.size();) {
+    size_t j = i + 1;
+    while (j < keys.size() && keys[j] == keys[i]) ++j;
+    if (j - i == 1) out.push_back(Edge{uint32_t(keys[i] >> 32), uint32_t(keys[i] & 0xffffffffu)});
+    i = j;
+  }
+  return out;
+}
+
+}  // namespace sdvi

@@ -1,0 +1,161 @@
+// Private to the render module: fixed-point scan conversion of triangles with the
+// top-left fill rule (see the rule in sdvi/render.h).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <thread>
+#include <vector>
+
+#include "sdvi/render.h"
+
+namespace sdvi::render_internal {
+
+constexpr int64_t kOne = int64_t(1) << kSubpixelBits;  // one output pixel in fixed point
+constexpr int64_t kHalf = kOne / 2;                      // pixel centre offset
+
+// A vertex in output pixels, fixed point; valid = finite and within kMaxOutputCoord.
+struct FixedPoint {
+  int64_t x = 0, y = 0;
+  bool valid = false;
+};
+
+inline FixedPoint ToFixed(const Vertex& v, const Viewport& vp) {
+  const double ox = (double(v.x) - vp.origin_x) * vp.scale_x;
+  const double oy = (double(v.y) - vp.origin_y) * vp.scale_y;
+  FixedPoint p;
+  if (!std::isfinite(ox) || !std::isfinite(oy) || std::abs(ox) > kMaxOutputCoord ||
+      std::abs(oy) > kMaxOutputCoord)
+    return p;
+  p.x = std::llround(ox * double(kOne));
+  p.y = std::llround(oy * double(kOne));
+  p.valid = true;
+  return p;
+}
+
+// Fixed-point output positions of all vertices.
+std::vector<FixedPoint> ToFixedAll(const std::vector<Vertex>& fine, const Viewport& vp, int threads);
+
+inline int64_t FloorDiv(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+inline int64_t CeilDiv(int64_t a, int64_t b) { return -FloorDiv(-a, b); }
+
+// One triangle ready for scan conversion. Slots are re-ordered so that the signed area is
+// positive; slot[k] is the original corner (0..2) in slot k. Edge k is opposite slot k,
+// from slot k+1 to slot k+2; E_k(p) > 0 inside, and E_k / area is the barycentric weight
+// of slot k.
+struct TriangleSetup {
+  int64_t x[3], y[3];
+  int slot[3];
+  int64_t area;     // twice the signed area in fixed point units^2, > 0
+  int64_t bias[3];  // 0 on top/left edges, -1 otherwise: owned iff E_k + bias_k >= 0
+  int i0, i1, j0, j1;  // inclusive pixel box of candidate centres, clipped to the viewport
+};
+
+// Fills setup; false when the triangle owns no pixel centre (invalid, degenerate, off-screen).
+inline bool SetupTriangle(const FixedPoint& a, const FixedPoint& b, const FixedPoint& c, int width,
+                          int height, TriangleSetup& s) {
+  if (!a.valid || !b.valid || !c.valid) return false;
+  const FixedPoint* p[3] = {&a, &b, &c};
+  int64_t area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+  if (area == 0) return false;
+  s.slot[0] = 0;
+  s.slot[1] = area > 0 ? 1 : 2;
+  s.slot[2] = area > 0 ? 2 : 1;
+  s.area = area > 0 ? area : -area;
+  for (int k = 0; k < 3; ++k) {
+    s.x[k] = p[s.slot[k]]->x;
+    s.y[k] = p[s.slot[k]]->y;
+  }
+  const int64_t minx = std::min({s.x[0], s.x[1], s.x[2]}), maxx = std::max({s.x[0], s.x[1], s.x[2]});
+  const int64_t miny = std::min({s.y[0], s.y[1], s.y[2]}), maxy = std::max({s.y[0], s.y[1], s.y[2]});
+  const int64_t i0 = std::max<int64_t>(0, CeilDiv(minx - kHalf, kOne));
+  const int64_t i1 = std::min<int64_t>(width - 1, FloorDiv(maxx - kHalf, kOne));
+  const int64_t j0 = std::max<int64_t>(0, CeilDiv(miny - kHalf, kOne));
+  const int64_t j1 = std::min<int64_t>(height - 1, FloorDiv(maxy - kHalf, kOne));
+  if (i0 > i1 || j0 > j1) return false;
+  s.i0 = int(i0), s.i1 = int(i1), s.j0 = int(j0), s.j1 = int(j1);
+  for (int k = 0; k < 3; ++k) {
+    const int a1 = (k + 1) % 3, a2 = (k + 2) % 3;
+    const int64_t dx = s.x[a2] - s.x[a1], dy = s.y[a2] - s.y[a1];
+    const bool top = dy == 0 && dx > 0;  // y grows downwards: interior below
+    const bool left = dy < 0;            // interior to the right
+    s.bias[k] = (top || left) ? 0 : -1;
+  }
+  return true;
+}
+
+// Calls visit(i, j, e0, e1, e2) for every owned pixel centre of s in rows [row0, row1),
+// with the exact edge functions e_k (barycentric weight of slot k = e_k / s.area).
+template <typename Visit>
+inline void ScanTriangle(const TriangleSetup& s, int row0, int row1, Visit&& visit) {
+  const int j0 = std::max(s.j0, row0), j1 = std::min(s.j1, row1 - 1);
+  if (j0 > j1) return;
+  int64_t ax[3], ay[3], ex0[3], step_x[3];
+  for (int k = 0; k < 3; ++k) {
+    const int a1 = (k + 1) % 3, a2 = (k + 2) % 3;
+    ax[k] = s.x[a2] - s.x[a1];  // dx
+    ay[k] = s.y[a2] - s.y[a1];  // dy
+    step_x[k] = -ay[k] * kOne;
+    const int64_t px = int64_t(s.i0) * kOne + kHalf - s.x[a1];
+    ex0[k] = -ay[k] * px;  // x part of E_k at column i0
+  }
+  for (int j = j0; j <= j1; ++j) {
+    const int64_t py = int64_t(j) * kOne + kHalf;
+    int64_t e[3];
+    for (int k = 0; k < 3; ++k) {
+      const int a1 = (k + 1) % 3;
+      e[k] = ex0[k] + ax[k] * (py - s.y[a1]);
+    }
+    for (int i = s.i0; i <= s.i1; ++i) {
+      if (e[0] + s.bias[0] >= 0 && e[1] + s.bias[1] >= 0 && e[2] + s.bias[2] >= 0)
+        visit(i, j, e[0], e[1], e[2]);
+      e[0] += step_x[0];
+      e[1] += step_x[1];
+      e[2] += step_x[2];
+    }
+  }
+}
+
+// Number of worker threads for a request (0 = hardware concurrency), at least 1.
+inline int WorkerCount(int requested, int rows) {
+  int n = requested > 0 ? requested : int(std::thread::hardware_concurrency());
+  n = std::max(1, std::min(n, 16));
+  return std::max(1, std::min(n, rows / 16 + 1));
+}
+
+// Runs body(band, row0, row1) over contiguous row bands, one thread per band.
+template <typename Body>
+inline void ForEachRowBand(int height, int threads, Body&& body) {
+  const int n = WorkerCount(threads, height);
+  if (n == 1) {
+    body(0, 0, height);
+    return;
+  }
+  std::vector<std::thread> pool;
+  for (int b = 0; b < n; ++b) {
+    const int r0 = int(int64_t(height) * b / n), r1 = int(int64_t(height) * (b + 1) / n);
+    pool.emplace_back([&body, b, r0, r1] { body(b, r0, r1); });
+  }
+  for (auto& t : pool) t.join();
+}
+
+// Runs body(begin, end) over contiguous index chunks of [0, count) in parallel.
+template <typename Body>
+inline void ForEachChunk(size_t count, int threads, Body&& body) {
+  int n = threads > 0 ? threads : int(std::thread::hardware_concurrency());
+  n = std::max(1, std::min<int>(n, 16));
+  if (count < 65536) n = 1;
+  if (n == 1) {
+    body(size_t(0), count);
+    return;
+  }
+  std::vector<std::thread> pool;
+  for (int b = 0; b < n; ++b) {
+    const size_t s0 = count * size_t(b) / size_t(n), s1 = count * size_t(b + 1) / size_t(n);
+    pool.emplace_back([&body, s0, s1] { body(s0, s1); });
+  }
+  for (auto& t : pool) t.join();
+}
+
+}  // namespace sdvi::render_internal
