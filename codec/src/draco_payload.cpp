@@ -20,7 +20,6 @@
 namespace sdvi {
 namespace {
 
-using codec_internal::Crc32;
 using codec_internal::MeshEdge;
 
 // Header layout (little-endian), 40 bytes.

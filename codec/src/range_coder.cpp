@@ -1,7 +1,5 @@
 #include "range_coder.h"
 
-#include <array>
-
 namespace sdvi::codec_internal {
 namespace {
 
@@ -79,21 +77,6 @@ bool RangeDecoder::Decode(BitModel& model) {
     code_ = (code_ << 8) | NextByte();
   }
   return bit;
-}
-
-uint32_t Crc32(std::span<const uint8_t> bytes, uint32_t crc) {
-  static const std::array<uint32_t, 256> table = [] {
-    std::array<uint32_t, 256> t{};
-    for (uint32_t i = 0; i < 256; ++i) {
-      uint32_t c = i;
-      for (int k = 0; k < 8; ++k) c = (c & 1) ? (0xEDB88320u ^ (c >> 1)) : (c >> 1);
-      t[i] = c;
-    }
-    return t;
-  }();
-  crc = ~crc;
-  for (uint8_t b : bytes) crc = table[(crc ^ b) & 0xFFu] ^ (crc >> 8);
-  return ~crc;
 }
 
 }  // namespace sdvi::codec_internal

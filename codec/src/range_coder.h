@@ -49,8 +49,4 @@ class RangeDecoder {
   bool overrun_ = false;
 };
 
-// CRC-32 (IEEE 802.3: reflected polynomial 0xEDB88320, initial value and final xor
-// 0xFFFFFFFF), continued from crc (0 to start).
-uint32_t Crc32(std::span<const uint8_t> bytes, uint32_t crc = 0);
-
 }  // namespace sdvi::codec_internal

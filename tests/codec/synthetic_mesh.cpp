@@ -6,7 +6,7 @@
 #include <random>
 #include <span>
 
-#include "range_coder.h"
+#include "sdvi/format.h"
 
 namespace sdvi::testing {
 
@@ -84,8 +84,7 @@ Image SyntheticGridImage(uint32_t width, uint32_t height, uint32_t cols, uint32_
 void FixPayloadChecksum(std::vector<uint8_t>* payload) {
   if (payload->size() < 40) return;
   const std::span<const uint8_t> bytes(*payload);
-  const uint32_t crc =
-      codec_internal::Crc32(bytes.subspan(40), codec_internal::Crc32(bytes.subspan(0, 36)));
+  const uint32_t crc = Crc32(bytes.subspan(40), Crc32(bytes.subspan(0, 36)));
   for (int i = 0; i < 4; ++i) (*payload)[36 + i] = static_cast<uint8_t>(crc >> (8 * i));
 }
 

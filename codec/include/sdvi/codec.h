@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "sdvi/format.h"
 #include "sdvi/image.h"
 #include "sdvi/status.h"
 
@@ -89,5 +90,42 @@ struct DracoPayloadInfo {
 };
 StatusOr<DracoPayloadInfo> InspectDracoPayload(std::span<const uint8_t> payload,
                                                const std::string& source_name);
+
+// ---- Images in .sdvi files, whatever the payload --------------------------------------
+
+// Decodes a .sdvi container held in memory, raw or Draco payload. Both give the format's
+// canonical form (CanonicalizeImage), so reading a compressed file and its decompressed
+// copy gives equal images. Errors: any DecodeSdvi error, any DecodeDracoPayload error,
+// kCountMismatch when the container's payload summary disagrees with the payload, and
+// ValidateImage's codes (e.g. a feature polyline naming a vertex the payload lacks).
+StatusOr<Image> DecodeImage(std::span<const uint8_t> bytes, const std::string& source_name,
+                            const ReadOptions& options = {});
+
+// Reads a .sdvi file whatever its payload (kNotFound, kIoError, or DecodeImage's errors).
+StatusOr<Image> ReadImage(const std::string& path, const ReadOptions& options = {});
+
+// The bytes of a .sdvi container for image: raw payload when compress is null, else a
+// Draco payload (the feature layer renumbered to the decoded vertex order). Validates
+// the image first (ValidateImage, naming source_name).
+StatusOr<std::vector<uint8_t>> EncodeImage(const Image& image, const CompressOptions* compress,
+                                           const std::string& source_name = "image");
+
+// Writes image to path atomically: raw payload when compress is null, else Draco.
+Status WriteImage(const std::string& path, const Image& image, const CompressOptions* compress);
+
+// What `sdvi info` reports about a file's payload and its cost.
+struct CompressionReport {
+  PayloadKind payload = PayloadKind::kRaw;
+  uint64_t file_bytes = 0;        // the whole container
+  uint64_t payload_bytes = 0;     // the Draco payload (kDraco), or the file (kRaw)
+  uint64_t paper_bytes = 0;       // 20 V + 6 T + 8: the paper's raw cost of this mesh
+  uint32_t vertex_count = 0, triangle_count = 0;
+  double bits_per_pixel = 0;      // 8 * file_bytes / (width * height)
+  double bytes_per_vertex = 0;    // file_bytes / vertex_count
+  double ratio_to_paper = 0;      // file_bytes / paper_bytes
+  DracoPayloadInfo draco;         // kDraco only
+};
+// Computes the report from a decoded container (header reads only; no Draco decoding).
+StatusOr<CompressionReport> ReportCompression(const SdviFile& file, const std::string& source_name);
 
 }  // namespace sdvi

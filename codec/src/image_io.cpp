@@ -1,0 +1,106 @@
+// Images in .sdvi files whatever their payload: the container (sdvi_format) outside,
+// the Draco payload (draco_payload.cpp) inside.
+#include <string>
+
+#include "sdvi/codec.h"
+#include "sdvi/file_util.h"
+
+namespace sdvi {
+namespace {
+
+PayloadSummary SummaryOf(std::span<const uint8_t> payload) {
+  PayloadSummary summary;
+  auto info = InspectDracoPayload(payload, "");
+  if (!info.ok()) return summary;
+  summary.codec_version_major = static_cast<uint8_t>(info->version_major);
+  summary.codec_version_minor = static_cast<uint8_t>(info->version_minor);
+  summary.vertex_count = info->vertex_count;
+  summary.triangle_count = info->triangle_count;
+  summary.params = {{"position_bits", std::to_string(info->position_bits)},
+                    {"color_bits", std::to_string(info->color_bits)},
+                    {"speed", std::to_string(info->speed)},
+                    {"vertex_ids", info->has_vertex_ids ? "1" : "0"}};
+  return summary;
+}
+
+}  // namespace
+
+StatusOr<Image> DecodeImage(std::span<const uint8_t> bytes, const std::string& source_name,
+                            const ReadOptions& options) {
+  SDVI_ASSIGN_OR_RETURN(SdviFile file, DecodeSdvi(bytes, source_name, options));
+  if (file.payload == PayloadKind::kRaw) return std::move(file.image);
+  Image image = std::move(file.image);
+  SDVI_RETURN_IF_ERROR(DecodeDracoPayload(file.compressed_payload, source_name, &image,
+                                          std::min<uint64_t>(options.max_vertices,
+                                                             options.max_triangles)));
+  const PayloadSummary& summary = file.payload_summary;
+  if (summary.vertex_count != image.vertices.size() ||
+      summary.triangle_count != image.triangles.size())
+    return Status(StatusCode::kCountMismatch,
+                  source_name + ": the container says the compressed mesh has " +
+                      std::to_string(summary.vertex_count) + " vertices and " +
+                      std::to_string(summary.triangle_count) + " triangles, the payload holds " +
+                      std::to_string(image.vertices.size()) + " and " +
+                      std::to_string(image.triangles.size()));
+  if (image.triangles.size() > options.max_triangles)
+    return Status(StatusCode::kLimitExceeded,
+                  source_name + ": the compressed mesh has " + std::to_string(image.triangles.size()) +
+                      " triangles, more than the read limit " + std::to_string(options.max_triangles));
+  SDVI_RETURN_IF_ERROR(ValidateImage(image, source_name));
+  return CanonicalizeImage(image);
+}
+
+StatusOr<Image> ReadImage(const std::string& path, const ReadOptions& options) {
+  SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, ReadFileBytes(path));
+  if (bytes.size() > options.max_file_bytes)
+    return Status(StatusCode::kLimitExceeded,
+                  path + ": " + std::to_string(bytes.size()) + " bytes exceed the limit of " +
+                      std::to_string(options.max_file_bytes));
+  return DecodeImage(bytes, path, options);
+}
+
+StatusOr<std::vector<uint8_t>> EncodeImage(const Image& image, const CompressOptions* compress,
+                                           const std::string& source_name) {
+  SDVI_RETURN_IF_ERROR(ValidateImage(image, source_name));
+  if (!compress) return EncodeSdvi(image);
+  std::vector<uint32_t> new_index;
+  SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> payload,
+                        EncodeDracoPayload(image, *compress, &new_index));
+  Image rest = image;
+  SDVI_RETURN_IF_ERROR(RenumberVertices(new_index, &rest));
+  rest.vertices.clear();
+  rest.triangles.clear();
+  rest.crease_edges.clear();
+  rest.corners.clear();
+  return EncodeSdviCompressed(rest, payload, SummaryOf(payload));
+}
+
+Status WriteImage(const std::string& path, const Image& image, const CompressOptions* compress) {
+  SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, EncodeImage(image, compress, path));
+  return WriteFileAtomic(path, bytes);
+}
+
+StatusOr<CompressionReport> ReportCompression(const SdviFile& file, const std::string& source_name) {
+  CompressionReport report;
+  report.payload = file.payload;
+  report.file_bytes = file.file_bytes;
+  if (file.payload == PayloadKind::kDraco) {
+    SDVI_ASSIGN_OR_RETURN(report.draco, InspectDracoPayload(file.compressed_payload, source_name));
+    report.payload_bytes = file.compressed_payload.size();
+    report.vertex_count = report.draco.vertex_count;
+    report.triangle_count = report.draco.triangle_count;
+  } else {
+    report.payload_bytes = file.file_bytes;
+    report.vertex_count = static_cast<uint32_t>(file.image.vertices.size());
+    report.triangle_count = static_cast<uint32_t>(file.image.triangles.size());
+  }
+  report.paper_bytes = PaperSizeBytes(report.vertex_count, report.triangle_count);
+  const double pixels = double(file.image.width) * double(file.image.height);
+  if (pixels > 0) report.bits_per_pixel = 8.0 * double(report.file_bytes) / pixels;
+  if (report.vertex_count > 0)
+    report.bytes_per_vertex = double(report.file_bytes) / double(report.vertex_count);
+  if (report.paper_bytes > 0) report.ratio_to_paper = double(report.file_bytes) / double(report.paper_bytes);
+  return report;
+}
+
+}  // namespace sdvi
