@@ -27,9 +27,38 @@ struct FeatureCurve {
                                   // bounds the domain, is not paired
 };
 
+// Edge detection (paper step 1): the image (RGB or grey) is smoothed with a Gaussian of
+// smoothing_sigma; the colour gradient is the principal direction / magnitude of the
+// structure tensor summed over channels (sqrt(lambda1 / channels), 0..255 units per px;
+// grey = the plain gradient magnitude); non-maximum suppression across the edge with a
+// sub-pixel peak; hysteresis between low_ratio * high and high; thinning; linking into
+// chains at endpoints (1 neighbour) and junctions (>= 3 neighbours).
+// Blur (per edge pixel): the edge profile is taken as a Gaussian-blurred step of contrast
+// C (colour distance between the smoothed image at +-5 px across the edge): its total
+// width is sigma_t = C / (sqrt(2 pi) |gradient|); the blur width of the image itself is
+// sigma_b = sqrt(sigma_t^2 - sigma_0^2), sigma_0 = the width a perfect step gets from
+// our own smoothing. Per chain: the median sigma_b, normalised blur =
+// min(1, sigma_b / blur_scale). With quantize_sharpness the chains are split by Otsu's
+// threshold (weighted by length) into a sharp and a soft class and every chain gets its
+// class mean; sharpness = 1 - blur.
+// Corners: chain ends (endpoints, junctions) and points where the chain turns by more
+// than corner_angle_deg over corner_window px on each side (local maxima).
 struct FeatureOptions {
-  bool detect_edges = true;  // false: no interior features (domain boundary only)
-  // Detector thresholds etc. are added by the features module with documented defaults.
+  bool detect_edges = true;       // false: no interior features (domain boundary only)
+  double smoothing_sigma = 1.0;   // Gaussian smoothing before the gradient, px
+  double high_threshold = 0;      // hysteresis high threshold (gradient units); 0 = auto:
+                                  // max(min_high_threshold, high_quantile of the gradient)
+  double min_high_threshold = 8;  // ~ contrast 22 for a crisp step
+  double high_quantile = 0.9;     // of the gradient magnitude over the domain
+  double low_ratio = 0.4;         // low threshold = low_ratio * high
+  double min_chain_length = 12;   // chains shorter than this (px) are dropped
+  double corner_angle_deg = 50;   // turning angle that makes a corner
+  double corner_window = 4;       // px on each side for the turning angle
+  double blur_scale = 2.0;        // blur width sigma_b (px) that counts as blur 1
+  bool quantize_sharpness = true; // Otsu two-level sharpness (paper); false: per chain
+  double fit_tolerance = 0.75;    // B-spline fit: max distance to the chain, px
+  double max_spacing = 12;        // B-spline fit: max arc length per polygon segment, px
+  double min_domain_area = 16;    // object mode: smaller components / holes are dropped, px^2
 };
 
 // Detects curvilinear features of image (RGB or grey, 0..255; alpha or mask gives the
@@ -43,15 +72,33 @@ struct ControlMeshOptions {
   bool pairs = true;         // false: one polyline per feature (ablation, paper Fig. 9)
   bool use_sharpness = true; // false: every pair at distance rho (ablation, paper Fig. 14)
   float min_angle_deg = 20;  // CDT quality bound
-  float max_edge = 0;        // CDT size bound in px; 0 = from the image size
+  float max_edge = 0;        // CDT size bound in px; 0 = max(8, sqrt(width * height) / 12)
+  float clearance = 1.0f;    // min distance between different feature polylines (and
+                             // from features to the boundary and to interior samples), px
 };
 
 // Builds the control mesh (colours zero): the domain boundary (image rectangle with its
 // four corners tagged, or the boundary curves), feature pairs offset along averaged
 // normals, the given interior samples, a constrained Delaunay triangulation (CGAL) with
 // no Steiner point on a feature polyline. Fills crease_edges, corners, polylines, pairs.
+// Placement rules (trimming of crossing features etc.) are documented in src/pairs.h.
+// Vertex order: polyline vertices (boundary first, then features in placement order),
+// then the kept interior samples, then Steiner points of the mesher. polylines holds the
+// boundary too (closed); every pair is (side +normal, side -normal) with the curve's
+// sharpness (0 when use_sharpness is false). Errors: kInvalidArgument for bad options,
+// sizes or curves (non-finite, too few points, corner out of range), kInvalidMesh when
+// no domain boundary survives, kInternal when the triangulation breaks an invariant.
 StatusOr<Image> BuildControlMesh(int width, int height, const std::vector<FeatureCurve>& curves,
                                  const std::vector<Point2>& interior_samples,
                                  const ControlMeshOptions& options);
+
+// Debug picture (for --debug-dir): image (grey or RGB[A], 0..255) as RGB, each curve's
+// spline drawn over it (sharp >= 0.5 red, soft green, boundary blue), its deBoor points
+// as dots and its corners (explicit ones and open ends) as small yellow squares.
+Raster DrawFeatures(const Raster& image, const std::vector<FeatureCurve>& curves);
+
+// Debug picture: the control mesh's edges over image (smooth edges grey, crease edges
+// red, corner vertices yellow).
+Raster DrawControlMesh(const Raster& image, const Image& mesh);
 
 }  // namespace sdvi

@@ -1,0 +1,559 @@
+// Curvilinear feature detection (paper section IV step 1) and B-spline fitting (step 2).
+// The rules are documented on FeatureOptions in sdvi/features.h.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+#include <string>
+
+#include "contours.h"
+#include "sdvi/bspline.h"
+#include "sdvi/features.h"
+
+namespace sdvi {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kContrastReach = 5.0;  // px each side of the edge for the contrast C
+
+// 8-neighbourhood in cyclic order: E, NE, N, NW, W, SW, S, SE.
+constexpr int kDx[8] = {1, 1, 0, -1, -1, -1, 0, 1};
+constexpr int kDy[8] = {0, -1, -1, -1, 0, 1, 1, 1};
+
+// The gradient field: magnitude and unit normal (across the edge) per pixel.
+struct GradientField {
+  int width = 0, height = 0;
+  cv::Mat mag, nx, ny;               // CV_32F
+  std::vector<cv::Mat> smoothed;     // smoothed colour channels, CV_32F
+};
+
+float Bilinear(const cv::Mat& m, double x, double y) {
+  // (x, y) in pixel-index coordinates (pixel centres at integers); clamped to the image.
+  x = std::clamp(x, 0.0, double(m.cols - 1));
+  y = std::clamp(y, 0.0, double(m.rows - 1));
+  int x0 = std::min(int(x), m.cols - 2 < 0 ? 0 : m.cols - 2);
+  int y0 = std::min(int(y), m.rows - 2 < 0 ? 0 : m.rows - 2);
+  int x1 = std::min(x0 + 1, m.cols - 1), y1 = std::min(y0 + 1, m.rows - 1);
+  float fx = float(x - x0), fy = float(y - y0);
+  const float* r0 = m.ptr<float>(y0);
+  const float* r1 = m.ptr<float>(y1);
+  return (r0[x0] * (1 - fx) + r0[x1] * fx) * (1 - fy) + (r1[x0] * (1 - fx) + r1[x1] * fx) * fy;
+}
+
+GradientField ComputeGradient(const Raster& image, double sigma) {
+  GradientField g;
+  g.width = image.width;
+  g.height = image.height;
+  const int nc = image.channels >= 3 ? 3 : 1;
+  cv::Mat jxx = cv::Mat::zeros(image.height, image.width, CV_32F);
+  cv::Mat jxy = cv::Mat::zeros(image.height, image.width, CV_32F);
+  cv::Mat jyy = cv::Mat::zeros(image.height, image.width, CV_32F);
+  for (int c = 0; c < nc; ++c) {
+    cv::Mat ch(image.height, image.width, CV_32F);
+    for (int y = 0; y < image.height; ++y) {
+      float* row = ch.ptr<float>(y);
+      for (int x = 0; x < image.width; ++x) row[x] = image.at(x, y, c);
+    }
+    cv::Mat s;
+    if (sigma > 0)
+      cv::GaussianBlur(ch, s, cv::Size(0, 0), sigma, sigma, cv::BORDER_REPLICATE);
+    else
+      s = ch;
+    ch.release();
+    cv::Mat gx, gy;
+    cv::Sobel(s, gx, CV_32F, 1, 0, 3, 1.0 / 8, 0, cv::BORDER_REPLICATE);
+    cv::Sobel(s, gy, CV_32F, 0, 1, 3, 1.0 / 8, 0, cv::BORDER_REPLICATE);
+    jxx += gx.mul(gx);
+    jxy += gx.mul(gy);
+    jyy += gy.mul(gy);
+    g.smoothed.push_back(s);
+  }
+  // Principal eigenvector of [jxx jxy; jxy jyy] in place: jxx -> mag, jxy -> nx, jyy -> ny.
+  for (int y = 0; y < image.height; ++y) {
+    float* a = jxx.ptr<float>(y);
+    float* b = jxy.ptr<float>(y);
+    float* d = jyy.ptr<float>(y);
+    for (int x = 0; x < image.width; ++x) {
+      double half = 0.5 * (a[x] - d[x]);
+      double root = std::sqrt(half * half + double(b[x]) * b[x]);
+      double l1 = 0.5 * (a[x] + d[x]) + root;
+      double vx, vy;
+      if (half >= 0) {
+        vx = half + root;
+        vy = b[x];
+      } else {
+        vx = b[x];
+        vy = -half + root;
+      }
+      double len = std::hypot(vx, vy);
+      if (len > 1e-12) {
+        vx /= len;
+        vy /= len;
+      } else {
+        vx = 1;
+        vy = 0;
+      }
+      a[x] = float(std::sqrt(std::max(0.0, l1) / nc));
+      b[x] = float(vx);
+      d[x] = float(vy);
+    }
+  }
+  g.mag = jxx;
+  g.nx = jxy;
+  g.ny = jyy;
+  return g;
+}
+
+// Hysteresis threshold: explicit, or max(floor, quantile of the magnitude in the domain).
+double HighThreshold(const GradientField& g, const cv::Mat& domain, const FeatureOptions& o) {
+  if (o.high_threshold > 0) return o.high_threshold;
+  // Histogram of magnitudes, 0.25 units per bin.
+  constexpr int kBins = 1024;
+  constexpr double kBinWidth = 0.25;
+  std::vector<uint64_t> hist(kBins, 0);
+  uint64_t total = 0;
+  for (int y = 0; y < g.height; ++y) {
+    const float* m = g.mag.ptr<float>(y);
+    const uint8_t* d = domain.empty() ? nullptr : domain.ptr<uint8_t>(y);
+    for (int x = 0; x < g.width; ++x) {
+      if (d && !d[x]) continue;
+      hist[std::min(kBins - 1, int(m[x] / kBinWidth))]++;
+      ++total;
+    }
+  }
+  double q = 0;
+  uint64_t target = uint64_t(std::clamp(o.high_quantile, 0.0, 1.0) * double(total));
+  uint64_t acc = 0;
+  for (int i = 0; i < kBins; ++i) {
+    acc += hist[i];
+    if (acc >= target) {
+      q = (i + 1) * kBinWidth;
+      break;
+    }
+  }
+  return std::max(o.min_high_threshold, q);
+}
+
+// Non-maximum suppression across the edge + hysteresis. Returns the edge map (1 = edge)
+// and the sub-pixel offset of each edge pixel's peak along its normal.
+cv::Mat SuppressAndLink(const GradientField& g, const cv::Mat& domain, double high, double low,
+                        cv::Mat* offset) {
+  const int w = g.width, h = g.height;
+  cv::Mat cand = cv::Mat::zeros(h, w, CV_8U);  // 1 = candidate, 2 = strong
+  *offset = cv::Mat::zeros(h, w, CV_32F);
+  for (int y = 0; y < h; ++y) {
+    const float* m = g.mag.ptr<float>(y);
+    const float* nx = g.nx.ptr<float>(y);
+    const float* ny = g.ny.ptr<float>(y);
+    const uint8_t* d = domain.empty() ? nullptr : domain.ptr<uint8_t>(y);
+    uint8_t* c = cand.ptr<uint8_t>(y);
+    float* off = offset->ptr<float>(y);
+    for (int x = 0; x < w; ++x) {
+      if (m[x] < low || (d && !d[x])) continue;
+      float a = Bilinear(g.mag, x - nx[x], y - ny[x]);
+      float b = Bilinear(g.mag, x + nx[x], y + ny[x]);
+      // Ties: keep the pixel on the "minus" side only, so plateaus give one line.
+      if (!(m[x] > a && m[x] >= b)) continue;
+      double denom = a - 2.0 * m[x] + b;
+      double delta = denom < 0 ? 0.5 * (a - b) / denom : 0.0;
+      off[x] = float(std::clamp(delta, -0.5, 0.5));
+      c[x] = m[x] >= high ? 2 : 1;
+    }
+  }
+  // Hysteresis: keep candidates 8-connected to a strong pixel.
+  cv::Mat edge = cv::Mat::zeros(h, w, CV_8U);
+  std::vector<int> stack;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (cand.at<uint8_t>(y, x) != 2 || edge.at<uint8_t>(y, x)) continue;
+      edge.at<uint8_t>(y, x) = 1;
+      stack.push_back(y * w + x);
+      while (!stack.empty()) {
+        int p = stack.back();
+        stack.pop_back();
+        int px = p % w, py = p / w;
+        for (int k = 0; k < 8; ++k) {
+          int qx = px + kDx[k], qy = py + kDy[k];
+          if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
+          if (!cand.at<uint8_t>(qy, qx) || edge.at<uint8_t>(qy, qx)) continue;
+          edge.at<uint8_t>(qy, qx) = 1;
+          stack.push_back(qy * w + qx);
+        }
+      }
+    }
+  return edge;
+}
+
+uint8_t NeighbourBits(const cv::Mat& edge, int x, int y) {
+  uint8_t bits = 0;
+  for (int k = 0; k < 8; ++k) {
+    int qx = x + kDx[k], qy = y + kDy[k];
+    if (qx >= 0 && qy >= 0 && qx < edge.cols && qy < edge.rows && edge.at<uint8_t>(qy, qx))
+      bits |= uint8_t(1u << k);
+  }
+  return bits;
+}
+
+// removable[bits]: a pixel whose set neighbours (>= 2) form one 8-connected group can be
+// removed without changing connectivity (it is a staircase corner or a thick-line pixel).
+std::array<bool, 256> RemovableTable() {
+  std::array<bool, 256> table{};
+  for (int bits = 0; bits < 256; ++bits) {
+    int parent[8];
+    std::iota(parent, parent + 8, 0);
+    auto find = [&](int i) {
+      while (parent[i] != i) i = parent[i] = parent[parent[i]];
+      return i;
+    };
+    int count = 0;
+    for (int k = 0; k < 8; ++k) {
+      if (!(bits >> k & 1)) continue;
+      ++count;
+      int next = (k + 1) % 8;
+      if (bits >> next & 1) parent[find(k)] = find(next);
+      // Two 4-neighbours two steps apart (E and N, ...) touch diagonally.
+      int next2 = (k + 2) % 8;
+      if (k % 2 == 0 && (bits >> next2 & 1)) parent[find(k)] = find(next2);
+    }
+    int groups = 0;
+    for (int k = 0; k < 8; ++k)
+      if ((bits >> k & 1) && find(k) == k) ++groups;
+    table[bits] = count >= 2 && groups == 1;
+  }
+  return table;
+}
+
+void Thin(cv::Mat& edge) {
+  static const std::array<bool, 256> removable = RemovableTable();
+  for (int pass = 0; pass < 2; ++pass) {
+    bool changed = false;
+    for (int y = 0; y < edge.rows; ++y)
+      for (int x = 0; x < edge.cols; ++x) {
+        if (!edge.at<uint8_t>(y, x)) continue;
+        if (removable[NeighbourBits(edge, x, y)]) {
+          edge.at<uint8_t>(y, x) = 0;
+          changed = true;
+        }
+      }
+    if (!changed) break;
+  }
+}
+
+struct Chain {
+  std::vector<int> pixels;  // y * width + x, in order
+  bool closed = false;
+};
+
+// Links the thinned edge map into chains that run between nodes (pixels with 1 or >= 3
+// neighbours) and closed loops; scan order makes the result deterministic.
+std::vector<Chain> LinkChains(const cv::Mat& edge) {
+  const int w = edge.cols, h = edge.rows;
+  cv::Mat degree = cv::Mat::zeros(h, w, CV_8U);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      if (edge.at<uint8_t>(y, x)) degree.at<uint8_t>(y, x) = uint8_t(__builtin_popcount(NeighbourBits(edge, x, y)));
+  cv::Mat visited = cv::Mat::zeros(h, w, CV_8U);
+  auto is_node = [&](int x, int y) {
+    uint8_t d = degree.at<uint8_t>(y, x);
+    return d != 2;
+  };
+  std::vector<Chain> chains;
+  auto trace = [&](int sx, int sy, int fx, int fy, bool from_node) {
+    Chain c;
+    c.pixels.push_back(sy * w + sx);
+    int px = sx, py = sy, cx = fx, cy = fy;
+    visited.at<uint8_t>(cy, cx) = 1;
+    c.pixels.push_back(cy * w + cx);
+    while (true) {
+      if (is_node(cx, cy)) break;
+      int nxp = -1, nyp = -1;
+      for (int k = 0; k < 8; ++k) {
+        int qx = cx + kDx[k], qy = cy + kDy[k];
+        if (qx < 0 || qy < 0 || qx >= w || qy >= h || !edge.at<uint8_t>(qy, qx)) continue;
+        if (qx == px && qy == py) continue;
+        nxp = qx;
+        nyp = qy;
+        break;
+      }
+      if (nxp < 0) break;
+      if (!from_node && nxp == sx && nyp == sy) {
+        c.closed = true;
+        break;
+      }
+      if (visited.at<uint8_t>(nyp, nxp) && !is_node(nxp, nyp)) break;
+      px = cx;
+      py = cy;
+      cx = nxp;
+      cy = nyp;
+      if (!is_node(cx, cy)) visited.at<uint8_t>(cy, cx) = 1;
+      c.pixels.push_back(cy * w + cx);
+    }
+    chains.push_back(std::move(c));
+  };
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (!edge.at<uint8_t>(y, x) || !is_node(x, y)) continue;
+      for (int k = 0; k < 8; ++k) {
+        int qx = x + kDx[k], qy = y + kDy[k];
+        if (qx < 0 || qy < 0 || qx >= w || qy >= h || !edge.at<uint8_t>(qy, qx)) continue;
+        if (is_node(qx, qy) || visited.at<uint8_t>(qy, qx)) continue;
+        trace(x, y, qx, qy, true);
+      }
+    }
+  // Loops without nodes.
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (!edge.at<uint8_t>(y, x) || visited.at<uint8_t>(y, x) || is_node(x, y)) continue;
+      visited.at<uint8_t>(y, x) = 1;
+      int fx = -1, fy = -1;
+      for (int k = 0; k < 8; ++k) {
+        int qx = x + kDx[k], qy = y + kDy[k];
+        if (qx < 0 || qy < 0 || qx >= w || qy >= h || !edge.at<uint8_t>(qy, qx)) continue;
+        fx = qx;
+        fy = qy;
+        break;
+      }
+      if (fx < 0) continue;
+      trace(x, y, fx, fy, false);
+    }
+  return chains;
+}
+
+double ChainLength(const std::vector<Point2>& p, bool closed) {
+  double len = 0;
+  for (size_t i = 1; i < p.size(); ++i) len += std::hypot(p[i].x - p[i - 1].x, p[i].y - p[i - 1].y);
+  if (closed && p.size() > 2) len += std::hypot(p[0].x - p.back().x, p[0].y - p.back().y);
+  return len;
+}
+
+// sigma_0: the edge width (px) a perfect step gets from our smoothing, the pixel grid and
+// the Sobel difference (measured on synthetic steps: sqrt(sigma^2 + 0.45)).
+double BaseWidth(double sigma) { return std::sqrt(sigma * sigma + 0.45); }
+
+// Blur width sigma_b of the image at one edge pixel (see FeatureOptions).
+double PixelBlur(const GradientField& g, int x, int y, double sigma) {
+  float m = g.mag.at<float>(y, x);
+  if (m <= 1e-3f) return 0;
+  double nx = g.nx.at<float>(y, x), ny = g.ny.at<float>(y, x);
+  double c2 = 0;
+  for (const cv::Mat& s : g.smoothed) {
+    double a = Bilinear(s, x + kContrastReach * nx, y + kContrastReach * ny);
+    double b = Bilinear(s, x - kContrastReach * nx, y - kContrastReach * ny);
+    c2 += (a - b) * (a - b);
+  }
+  double contrast = std::sqrt(c2 / double(g.smoothed.size()));
+  double width = contrast / (std::sqrt(2 * kPi) * m);
+  double base = BaseWidth(sigma);
+  return std::sqrt(std::max(0.0, width * width - base * base));
+}
+
+// Otsu's threshold of values in [0, 1] weighted by weights; returns the two class means
+// and the threshold.
+void OtsuTwoClasses(const std::vector<double>& v, const std::vector<double>& wt, double* thr,
+                    double* mean_lo, double* mean_hi) {
+  constexpr int kBins = 64;
+  std::vector<double> hist(kBins, 0), sum(kBins, 0);
+  double total = 0, total_sum = 0;
+  for (size_t i = 0; i < v.size(); ++i) {
+    int b = std::clamp(int(v[i] * kBins), 0, kBins - 1);
+    hist[b] += wt[i];
+    sum[b] += wt[i] * v[i];
+    total += wt[i];
+    total_sum += wt[i] * v[i];
+  }
+  double best = -1, w0 = 0, s0 = 0;
+  *thr = 1.0;
+  for (int b = 0; b + 1 < kBins; ++b) {
+    w0 += hist[b];
+    s0 += sum[b];
+    double w1 = total - w0;
+    if (w0 <= 0 || w1 <= 0) continue;
+    double m0 = s0 / w0, m1 = (total_sum - s0) / w1;
+    double between = w0 * w1 * (m0 - m1) * (m0 - m1);
+    if (between > best) {
+      best = between;
+      *thr = double(b + 1) / kBins;
+    }
+  }
+  double lo_w = 0, lo_s = 0, hi_w = 0, hi_s = 0;
+  for (size_t i = 0; i < v.size(); ++i) {
+    if (v[i] < *thr) {
+      lo_w += wt[i];
+      lo_s += wt[i] * v[i];
+    } else {
+      hi_w += wt[i];
+      hi_s += wt[i] * v[i];
+    }
+  }
+  *mean_lo = lo_w > 0 ? lo_s / lo_w : 0;
+  *mean_hi = hi_w > 0 ? hi_s / hi_w : 1;
+}
+
+Status ValidateOptions(const FeatureOptions& o) {
+  auto bad = [](const char* name, double v) {
+    return Status(StatusCode::kInvalidArgument,
+                  std::string("feature option ") + name + " = " + std::to_string(v) + " is out of range");
+  };
+  if (!(o.smoothing_sigma >= 0 && o.smoothing_sigma <= 20)) return bad("smoothing_sigma", o.smoothing_sigma);
+  if (!(o.high_threshold >= 0)) return bad("high_threshold", o.high_threshold);
+  if (!(o.low_ratio > 0 && o.low_ratio <= 1)) return bad("low_ratio", o.low_ratio);
+  if (!(o.high_quantile >= 0 && o.high_quantile <= 1)) return bad("high_quantile", o.high_quantile);
+  if (!(o.min_chain_length >= 0)) return bad("min_chain_length", o.min_chain_length);
+  if (!(o.corner_angle_deg > 0 && o.corner_angle_deg <= 180)) return bad("corner_angle_deg", o.corner_angle_deg);
+  if (!(o.corner_window >= 1 && o.corner_window <= 64)) return bad("corner_window", o.corner_window);
+  if (!(o.blur_scale > 0)) return bad("blur_scale", o.blur_scale);
+  if (!(o.fit_tolerance > 0)) return bad("fit_tolerance", o.fit_tolerance);
+  if (!(o.max_spacing >= 2)) return bad("max_spacing", o.max_spacing);
+  if (!(o.min_domain_area >= 0)) return bad("min_domain_area", o.min_domain_area);
+  return Status::Ok();
+}
+
+}  // namespace
+
+std::vector<uint32_t> FindChainCorners(const std::vector<Point2>& p, bool closed,
+                                       double angle_deg, int window) {
+  const int m = int(p.size());
+  std::vector<uint32_t> corners;
+  if (m < 2 * window + 1) return corners;
+  const double thr = angle_deg * kPi / 180;
+  std::vector<double> turn(m, 0.0);
+  for (int i = 0; i < m; ++i) {
+    int a = i - window, b = i + window;
+    if (!closed && (a < 0 || b >= m)) continue;
+    const Point2& pa = p[(a + m) % m];
+    const Point2& pb = p[b % m];
+    double v1x = p[i].x - pa.x, v1y = p[i].y - pa.y, v2x = pb.x - p[i].x, v2y = pb.y - p[i].y;
+    double l1 = std::hypot(v1x, v1y), l2 = std::hypot(v2x, v2y);
+    if (l1 < 1e-9 || l2 < 1e-9) continue;
+    double c = std::clamp((v1x * v2x + v1y * v2y) / (l1 * l2), -1.0, 1.0);
+    turn[i] = std::acos(c);
+  }
+  for (int i = 0; i < m; ++i) {
+    if (turn[i] <= thr) continue;
+    bool is_max = true;
+    for (int k = -window; k <= window && is_max; ++k) {
+      if (k == 0) continue;
+      int j = i + k;
+      if (!closed && (j < 0 || j >= m)) continue;
+      j = (j + m) % m;
+      // Strict maximum on the left, >= on the right: plateaus give one corner.
+      if (turn[j] > turn[i] || (k < 0 && turn[j] == turn[i])) is_max = false;
+    }
+    if (!is_max) continue;
+    if (!closed && (i < window || i >= m - window)) continue;
+    corners.push_back(uint32_t(i));
+  }
+  return corners;
+}
+
+StatusOr<std::vector<FeatureCurve>> DetectFeatures(const Raster& image, const Raster* mask,
+                                                   const FeatureOptions& options) {
+  SDVI_RETURN_IF_ERROR(ValidateOptions(options));
+  if (image.empty() || image.channels < 1 || image.channels > 4 ||
+      image.data.size() != size_t(image.width) * image.height * image.channels)
+    return Status(StatusCode::kEmptyInput, "DetectFeatures: image is empty or its size (" +
+                                               std::to_string(image.width) + "x" + std::to_string(image.height) +
+                                               "x" + std::to_string(image.channels) + ") disagrees with its data");
+  for (float v : image.data)
+    if (!std::isfinite(v)) return Status(StatusCode::kNonFinite, "DetectFeatures: image has a NaN or infinite sample");
+  const int w = image.width, h = image.height;
+
+  // Domain: mask channel 0 > 0.5, else alpha > 0.5, else everything.
+  cv::Mat domain;
+  bool object_mode = false;
+  if (mask) {
+    if (mask->width != w || mask->height != h || mask->channels < 1 ||
+        mask->data.size() != size_t(w) * h * mask->channels)
+      return Status(StatusCode::kInvalidArgument,
+                    "DetectFeatures: mask is " + std::to_string(mask->width) + "x" + std::to_string(mask->height) +
+                        ", expected the image size " + std::to_string(w) + "x" + std::to_string(h));
+    domain = cv::Mat::zeros(h, w, CV_8U);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) domain.at<uint8_t>(y, x) = mask->at(x, y, 0) > 0.5f ? 1 : 0;
+    object_mode = true;
+  } else if (image.has_alpha()) {
+    domain = cv::Mat::zeros(h, w, CV_8U);
+    const int ac = image.channels - 1;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) domain.at<uint8_t>(y, x) = image.at(x, y, ac) > 0.5f ? 1 : 0;
+    object_mode = cv::countNonZero(domain) < w * h;
+  }
+
+  std::vector<FeatureCurve> curves;
+  cv::Mat edge_domain;  // where interior edges may be detected
+  if (object_mode) {
+    SDVI_ASSIGN_OR_RETURN(curves, DomainBoundaryCurves(domain, options));
+    // Stay a few pixels inside the domain: its rim is a boundary curve already.
+    int r = int(std::ceil(2 * options.smoothing_sigma)) + 2;
+    cv::erode(domain, edge_domain, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1)));
+  }
+  if (!options.detect_edges) return curves;
+
+  GradientField g = ComputeGradient(image, options.smoothing_sigma);
+  if (object_mode) {
+    // Colours outside the domain are arbitrary: do not let them into the gradient.
+    g.mag.setTo(0.0f, edge_domain == 0);
+  }
+  const double high = HighThreshold(g, edge_domain, options);
+  const double low = options.low_ratio * high;
+  cv::Mat offset;
+  cv::Mat edge = SuppressAndLink(g, edge_domain, high, low, &offset);
+  Thin(edge);
+  std::vector<Chain> chains = LinkChains(edge);
+
+  // Samples, blur and length per kept chain.
+  struct Kept {
+    std::vector<Point2> samples;
+    bool closed;
+    double blur;
+    double length;
+  };
+  std::vector<Kept> kept;
+  for (const Chain& c : chains) {
+    Kept k;
+    k.closed = c.closed;
+    std::vector<double> blurs;
+    for (int p : c.pixels) {
+      int x = p % w, y = p / w;
+      double d = offset.at<float>(y, x);
+      k.samples.push_back({x + 0.5 + d * g.nx.at<float>(y, x), y + 0.5 + d * g.ny.at<float>(y, x)});
+      blurs.push_back(PixelBlur(g, x, y, options.smoothing_sigma));
+    }
+    k.length = ChainLength(k.samples, k.closed);
+    if (k.length < options.min_chain_length || k.samples.size() < 3) continue;
+    std::nth_element(blurs.begin(), blurs.begin() + blurs.size() / 2, blurs.end());
+    k.blur = std::min(1.0, blurs[blurs.size() / 2] / options.blur_scale);
+    kept.push_back(std::move(k));
+  }
+  std::vector<double> sharpness(kept.size());
+  if (options.quantize_sharpness && !kept.empty()) {
+    std::vector<double> v, wt;
+    for (const Kept& k : kept) {
+      v.push_back(k.blur);
+      wt.push_back(k.length);
+    }
+    double thr, lo, hi;
+    OtsuTwoClasses(v, wt, &thr, &lo, &hi);
+    for (size_t i = 0; i < kept.size(); ++i) sharpness[i] = 1.0 - (kept[i].blur < thr ? lo : hi);
+  } else {
+    for (size_t i = 0; i < kept.size(); ++i) sharpness[i] = 1.0 - kept[i].blur;
+  }
+
+  BSplineFitOptions fit;
+  fit.tolerance = options.fit_tolerance;
+  fit.max_spacing = options.max_spacing;
+  const int window = std::max(1, int(std::lround(options.corner_window)));
+  for (size_t i = 0; i < kept.size(); ++i) {
+    std::vector<uint32_t> corners =
+        FindChainCorners(kept[i].samples, kept[i].closed, options.corner_angle_deg, window);
+    FeatureCurve curve = FitChain(kept[i].samples, kept[i].closed, corners, fit);
+    curve.sharpness = float(std::clamp(sharpness[i], 0.0, 1.0));
+    curve.boundary = false;
+    if (curve.points.size() >= 2) curves.push_back(std::move(curve));
+  }
+  return curves;
+}
+
+}  // namespace sdvi

@@ -1,0 +1,417 @@
+// Feature placement: boundary, feature pairs, no crossings (rules in pairs.h).
+#include "pairs.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace sdvi {
+namespace {
+
+double Dist(Point2 a, Point2 b) { return std::hypot(a.x - b.x, a.y - b.y); }
+
+double PointSegmentDistance(Point2 p, Point2 a, Point2 b) {
+  double vx = b.x - a.x, vy = b.y - a.y;
+  double l2 = vx * vx + vy * vy;
+  double t = l2 > 0 ? ((p.x - a.x) * vx + (p.y - a.y) * vy) / l2 : 0;
+  t = std::clamp(t, 0.0, 1.0);
+  return std::hypot(p.x - (a.x + t * vx), p.y - (a.y + t * vy));
+}
+
+double Cross(Point2 o, Point2 a, Point2 b) { return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x); }
+
+bool SegmentsCross(Point2 a, Point2 b, Point2 c, Point2 d) {
+  double d1 = Cross(c, d, a), d2 = Cross(c, d, b), d3 = Cross(a, b, c), d4 = Cross(a, b, d);
+  return ((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0));
+}
+
+double SegmentDistance(Point2 a, Point2 b, Point2 c, Point2 d) {
+  if (SegmentsCross(a, b, c, d)) return 0;
+  return std::min({PointSegmentDistance(a, c, d), PointSegmentDistance(b, c, d),
+                   PointSegmentDistance(c, a, b), PointSegmentDistance(d, a, b)});
+}
+
+// Uniform grid over the (slightly enlarged) frame holding placed segments.
+class SegmentGrid {
+ public:
+  SegmentGrid(double width, double height, double cell) : cell_(cell) {
+    nx_ = std::max(1, int(std::ceil((width + 2 * kPad) / cell)));
+    ny_ = std::max(1, int(std::ceil((height + 2 * kPad) / cell)));
+    cells_.resize(size_t(nx_) * ny_);
+  }
+  void Add(Point2 a, Point2 b) {
+    int id = int(segs_.size());
+    segs_.push_back({a, b});
+    ForCells(a, b, 0, [&](std::vector<int>& c) { c.push_back(id); });
+  }
+  // Smallest distance from segment (a, b) to a placed segment, capped at `reach`.
+  double Distance(Point2 a, Point2 b, double reach) const {
+    double best = reach;
+    const_cast<SegmentGrid*>(this)->ForCells(a, b, reach, [&](std::vector<int>& c) {
+      for (int id : c) best = std::min(best, SegmentDistance(a, b, segs_[id].first, segs_[id].second));
+    });
+    return best;
+  }
+  const std::vector<std::pair<Point2, Point2>>& segments() const { return segs_; }
+
+ private:
+  static constexpr double kPad = 16;
+  template <typename F>
+  void ForCells(Point2 a, Point2 b, double margin, F&& f) {
+    auto cx = [&](double x) { return std::clamp(int(std::floor((x + kPad) / cell_)), 0, nx_ - 1); };
+    auto cy = [&](double y) { return std::clamp(int(std::floor((y + kPad) / cell_)), 0, ny_ - 1); };
+    int x0 = cx(std::min(a.x, b.x) - margin), x1 = cx(std::max(a.x, b.x) + margin);
+    int y0 = cy(std::min(a.y, b.y) - margin), y1 = cy(std::max(a.y, b.y) + margin);
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) f(cells_[size_t(y) * nx_ + x]);
+  }
+  double cell_;
+  int nx_ = 1, ny_ = 1;
+  std::vector<std::vector<int>> cells_;
+  std::vector<std::pair<Point2, Point2>> segs_;
+};
+
+// Removes consecutive (near-)duplicate points, keeping corner tags; splits segments
+// longer than max_len evenly.
+PlacedPolyline Prepare(const FeatureCurve& c, double max_len) {
+  PlacedPolyline out;
+  out.closed = c.closed;
+  out.boundary = c.boundary;
+  const size_t n = c.points.size();
+  std::vector<bool> is_corner(n, false);
+  for (uint32_t k : c.corners)
+    if (k < n) is_corner[k] = true;
+  std::vector<Point2> pts;
+  std::vector<bool> corner;
+  for (size_t i = 0; i < n; ++i) {
+    if (!pts.empty() && Dist(pts.back(), c.points[i]) < 1e-3) {
+      corner.back() = corner.back() || is_corner[i];
+      continue;
+    }
+    pts.push_back(c.points[i]);
+    corner.push_back(is_corner[i]);
+  }
+  if (out.closed && pts.size() > 1 && Dist(pts.back(), pts.front()) < 1e-3) {
+    corner.front() = corner.front() || corner.back();
+    pts.pop_back();
+    corner.pop_back();
+  }
+  const size_t m = pts.size();
+  const size_t segs = out.closed ? m : (m ? m - 1 : 0);
+  for (size_t i = 0; i < m; ++i) {
+    if (corner[i]) out.corners.push_back(uint32_t(out.points.size()));
+    out.points.push_back(pts[i]);
+    if (i >= segs) continue;
+    Point2 a = pts[i], b = pts[(i + 1) % m];
+    int pieces = int(std::ceil(Dist(a, b) / max_len));
+    for (int k = 1; k < pieces; ++k) {
+      double t = double(k) / pieces;
+      out.points.push_back({a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)});
+    }
+  }
+  return out;
+}
+
+// Unit normal offsets (mitred, limit 2) of a polygon's vertices.
+std::vector<Point2> Normals(const std::vector<Point2>& p, bool closed) {
+  const int m = int(p.size());
+  auto seg_normal = [&](int i) {  // normal of segment i -> i+1 (left of the direction)
+    Point2 a = p[i], b = p[(i + 1) % m];
+    double dx = b.x - a.x, dy = b.y - a.y, l = std::hypot(dx, dy);
+    return l > 0 ? Point2{-dy / l, dx / l} : Point2{0, 0};
+  };
+  std::vector<Point2> out(m);
+  for (int i = 0; i < m; ++i) {
+    bool has_prev = closed || i > 0, has_next = closed || i + 1 < m;
+    Point2 n1 = has_prev ? seg_normal((i - 1 + m) % m) : seg_normal(i);
+    Point2 n2 = has_next ? seg_normal(i) : n1;
+    if (!has_prev) n1 = n2;
+    double sx = n1.x + n2.x, sy = n1.y + n2.y, l = std::hypot(sx, sy);
+    if (l < 1e-6) {
+      out[i] = n1;
+      continue;
+    }
+    sx /= l;
+    sy /= l;
+    double c = sx * n1.x + sy * n1.y;
+    double scale = 1.0 / std::max(0.5, c);
+    out[i] = {sx * scale, sy * scale};
+  }
+  return out;
+}
+
+// Signed-area-free point-in-domain test: odd number of boundary crossings of a ray.
+bool InsideBoundary(Point2 p, const std::vector<PlacedPolyline>& boundary) {
+  bool inside = false;
+  for (const PlacedPolyline& b : boundary) {
+    const size_t m = b.points.size();
+    for (size_t i = 0, j = m - 1; i < m; j = i++) {
+      Point2 a = b.points[i], c = b.points[j];
+      if ((a.y > p.y) != (c.y > p.y)) {
+        double x = a.x + (p.y - a.y) * (c.x - a.x) / (c.y - a.y);
+        if (p.x < x) inside = !inside;
+      }
+    }
+  }
+  return inside;
+}
+
+Status ValidateCurve(const FeatureCurve& c, size_t index, int width, int height) {
+  auto bad = [&](const std::string& what) {
+    return Status(StatusCode::kInvalidArgument, "BuildControlMesh: curve " + std::to_string(index) + " " + what);
+  };
+  if (c.points.size() < (c.closed ? 3u : 2u))
+    return bad("has " + std::to_string(c.points.size()) + " points, needs at least " + (c.closed ? "3" : "2"));
+  for (const Point2& p : c.points) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y)) return bad("has a non-finite point");
+    if (c.boundary && (p.x < 0 || p.y < 0 || p.x > width || p.y > height))
+      return bad("is a boundary curve with a point outside the frame [0," + std::to_string(width) + "]x[0," +
+                 std::to_string(height) + "]");
+  }
+  for (uint32_t k : c.corners)
+    if (k >= c.points.size()) return bad("has corner index " + std::to_string(k) + " out of range");
+  if (!(c.sharpness >= 0 && c.sharpness <= 1)) return bad("has sharpness outside [0, 1]");
+  if (c.boundary && !c.closed) return bad("is a boundary curve that is not closed");
+  return Status::Ok();
+}
+
+// Tags segments of a candidate (one or two polylines with equal segment count) that
+// conflict with placed segments, with each other, or leave the domain.
+// check_domain: also tag segments whose end points leave the domain (the frame shrunk by
+// the clearance, or the inside of the boundary polylines when given).
+std::vector<bool> BadSegments(const std::vector<const PlacedPolyline*>& lines, const SegmentGrid& placed,
+                              double clearance, double self_clearance, bool check_domain, int width,
+                              int height, const std::vector<PlacedPolyline>* boundary) {
+  const PlacedPolyline& first = *lines[0];
+  const int m = int(first.points.size());
+  const int segs = first.closed ? m : m - 1;
+  std::vector<bool> bad(std::max(segs, 0), false);
+  for (const PlacedPolyline* l : lines) {
+    for (int i = 0; i < m && check_domain; ++i) {
+      Point2 p = l->points[i];
+      bool inside = boundary ? InsideBoundary(p, *boundary)
+                             : (p.x >= clearance && p.y >= clearance && p.x <= width - clearance &&
+                                p.y <= height - clearance);
+      if (!inside) {
+        if (i < segs) bad[i] = true;
+        if (i > 0 || first.closed) bad[(i - 1 + segs) % segs] = true;
+      }
+    }
+    for (int i = 0; i < segs; ++i) {
+      if (bad[i]) continue;
+      Point2 a = l->points[i], b = l->points[(i + 1) % m];
+      if (placed.Distance(a, b, clearance) < clearance) bad[i] = true;
+    }
+  }
+  // Self and mutual conflicts of the candidate's own segments.
+  for (size_t la = 0; la < lines.size(); ++la)
+    for (size_t lb = la; lb < lines.size(); ++lb)
+      for (int i = 0; i < segs; ++i)
+        for (int j = (la == lb ? i + 1 : 0); j < segs; ++j) {
+          if (la == lb) {
+            int gap = std::abs(i - j);
+            if (first.closed) gap = std::min(gap, segs - gap);
+            if (gap <= 1) continue;
+          }
+          const auto& A = lines[la]->points;
+          const auto& B = lines[lb]->points;
+          Point2 a = A[i], b = A[(i + 1) % m], c = B[j], d = B[(j + 1) % m];
+          // Cheap box reject.
+          if (std::max(a.x, b.x) + self_clearance < std::min(c.x, d.x) ||
+              std::max(c.x, d.x) + self_clearance < std::min(a.x, b.x) ||
+              std::max(a.y, b.y) + self_clearance < std::min(c.y, d.y) ||
+              std::max(c.y, d.y) + self_clearance < std::min(a.y, b.y))
+            continue;
+          if (SegmentDistance(a, b, c, d) < self_clearance) {
+            bad[i] = true;
+            bad[j] = true;
+          }
+        }
+  return bad;
+}
+
+// Sub-polyline of points [a, b] (indices mod m) keeping the corners strictly inside.
+PlacedPolyline SubPolyline(const PlacedPolyline& l, int a, int b) {
+  PlacedPolyline out;
+  out.closed = false;
+  out.boundary = l.boundary;
+  const int m = int(l.points.size());
+  std::vector<bool> corner(m, false);
+  for (uint32_t c : l.corners) corner[c] = true;
+  for (int k = a; k <= b; ++k) {
+    int i = k % m;
+    if (corner[i] && k != a && k != b) out.corners.push_back(uint32_t(out.points.size()));
+    out.points.push_back(l.points[i]);
+  }
+  return out;
+}
+
+double PolylineArea(const PlacedPolyline& l) {
+  double a = 0;
+  const size_t m = l.points.size();
+  for (size_t i = 0, j = m - 1; i < m; j = i++)
+    a += l.points[j].x * l.points[i].y - l.points[i].x * l.points[j].y;
+  return std::fabs(a) / 2;
+}
+
+double Length(const FeatureCurve& c) {
+  double len = 0;
+  for (size_t i = 1; i < c.points.size(); ++i) len += Dist(c.points[i - 1], c.points[i]);
+  return len;
+}
+
+}  // namespace
+
+StatusOr<PlacedFeatures> PlaceFeatures(int width, int height, const std::vector<FeatureCurve>& curves,
+                                       const std::vector<Point2>& interior_samples,
+                                       const ControlMeshOptions& options) {
+  if (width <= 0 || height <= 0 || width > 65536 || height > 65536)
+    return Status(StatusCode::kInvalidArgument, "BuildControlMesh: image size " + std::to_string(width) + "x" +
+                                                    std::to_string(height) + " is out of range (1..65536)");
+  if (!(options.rho >= 0 && options.rho < 1000) || !(options.min_distance > 0 && options.min_distance < 1000) ||
+      !(options.min_angle_deg >= 0 && options.min_angle_deg <= 30) || !(options.max_edge >= 0) ||
+      !(options.clearance > 0 && options.clearance < 1000))
+    return Status(StatusCode::kInvalidArgument,
+                  "BuildControlMesh: options out of range (rho >= 0, min_distance > 0, min_angle_deg in [0, 30], "
+                  "max_edge >= 0, clearance > 0)");
+  for (size_t i = 0; i < curves.size(); ++i) SDVI_RETURN_IF_ERROR(ValidateCurve(curves[i], i, width, height));
+  for (const Point2& p : interior_samples)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y))
+      return Status(StatusCode::kInvalidArgument, "BuildControlMesh: an interior sample is not finite");
+
+  PlacedFeatures out;
+  out.max_edge = options.max_edge > 0 ? options.max_edge
+                                      : std::max(8.0, std::sqrt(double(width) * height) / 12.0);
+  const double max_len = 0.7 * out.max_edge;
+  const double clearance = options.clearance;
+  SegmentGrid grid(width, height, std::max(4.0, std::min(32.0, out.max_edge)));
+  auto place = [&](PlacedPolyline l) {
+    const size_t m = l.points.size();
+    const size_t segs = l.closed ? m : m - 1;
+    for (size_t i = 0; i < segs; ++i) grid.Add(l.points[i], l.points[(i + 1) % m]);
+    out.polylines.push_back(std::move(l));
+    return uint32_t(out.polylines.size() - 1);
+  };
+
+  // Domain boundary.
+  std::vector<size_t> boundary_idx;
+  for (size_t i = 0; i < curves.size(); ++i)
+    if (curves[i].boundary) boundary_idx.push_back(i);
+  out.object_mode = !boundary_idx.empty();
+  if (!out.object_mode) {
+    PlacedPolyline rect;
+    rect.closed = true;
+    rect.boundary = true;
+    const Point2 corner[4] = {{0, 0}, {double(width), 0}, {double(width), double(height)}, {0, double(height)}};
+    for (int s = 0; s < 4; ++s) {
+      Point2 a = corner[s], b = corner[(s + 1) % 4];
+      int pieces = std::max(1, int(std::ceil(Dist(a, b) / max_len)));
+      rect.corners.push_back(uint32_t(rect.points.size()));
+      for (int k = 0; k < pieces; ++k) {
+        double t = double(k) / pieces;
+        rect.points.push_back({a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)});
+      }
+    }
+    place(std::move(rect));
+  } else {
+    std::vector<PlacedPolyline> prepared;
+    for (size_t i : boundary_idx) prepared.push_back(Prepare(curves[i], max_len));
+    std::stable_sort(prepared.begin(), prepared.end(),
+                     [](const PlacedPolyline& a, const PlacedPolyline& b) { return PolylineArea(a) > PolylineArea(b); });
+    for (PlacedPolyline& l : prepared) {
+      if (l.points.size() < 3) continue;
+      // Kept whole or not at all: it may touch the frame, not a placed curve or itself.
+      std::vector<bool> bad =
+          BadSegments({&l}, grid, clearance, std::min(0.25, clearance), false, width, height, nullptr);
+      if (std::find(bad.begin(), bad.end(), true) == bad.end()) place(std::move(l));
+    }
+    if (out.polylines.empty())
+      return Status(StatusCode::kInvalidMesh, "BuildControlMesh: no boundary curve can bound the domain "
+                                              "(all cross each other or themselves)");
+  }
+  const std::vector<PlacedPolyline> boundary = out.polylines;
+  const std::vector<PlacedPolyline>* domain_test = out.object_mode ? &boundary : nullptr;
+
+  // Features, longest first.
+  std::vector<size_t> order;
+  for (size_t i = 0; i < curves.size(); ++i)
+    if (!curves[i].boundary) order.push_back(i);
+  std::vector<double> length(curves.size());
+  for (size_t i : order) length[i] = Length(curves[i]);
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return length[a] > length[b]; });
+  for (size_t ci : order) {
+    const FeatureCurve& curve = curves[ci];
+    PlacedPolyline centre = Prepare(curve, max_len);
+    const int m = int(centre.points.size());
+    if (m < (centre.closed ? 3 : 2)) continue;
+    float sharpness = options.use_sharpness ? curve.sharpness : 0.0f;
+    double d = options.use_sharpness ? std::max<double>(options.min_distance, options.rho * (1.0 - curve.sharpness))
+                                     : std::max<double>(options.min_distance, options.rho);
+    std::vector<PlacedPolyline> sides;
+    if (options.pairs) {
+      std::vector<Point2> nrm = Normals(centre.points, centre.closed);
+      for (double sign : {+1.0, -1.0}) {
+        PlacedPolyline s = centre;
+        for (int i = 0; i < m; ++i) {
+          s.points[i].x += sign * 0.5 * d * nrm[i].x;
+          s.points[i].y += sign * 0.5 * d * nrm[i].y;
+        }
+        sides.push_back(std::move(s));
+      }
+    } else {
+      sides.push_back(centre);
+    }
+    std::vector<const PlacedPolyline*> ptrs;
+    for (const PlacedPolyline& s : sides) ptrs.push_back(&s);
+    const double self_clearance = options.pairs ? std::min(std::min(0.25, clearance), 0.4 * d) : std::min(0.25, clearance);
+    std::vector<bool> bad = BadSegments(ptrs, grid, clearance, self_clearance, true, width, height, domain_test);
+    const int segs = int(bad.size());
+    auto emit = [&](int a, int b, bool closed) {  // points a..b (mod m)
+      uint32_t first = 0, second = 0;
+      for (size_t k = 0; k < sides.size(); ++k) {
+        PlacedPolyline l = closed ? sides[k] : SubPolyline(sides[k], a, b);
+        uint32_t id = place(std::move(l));
+        (k == 0 ? first : second) = id;
+      }
+      if (options.pairs) out.pairs.push_back({first, second, sharpness});
+    };
+    bool any_bad = std::find(bad.begin(), bad.end(), true) != bad.end();
+    if (!any_bad && centre.closed) {
+      emit(0, m - 1, true);
+      continue;
+    }
+    // Runs of good segments; a closed curve starts after its first bad segment.
+    int start = 0;
+    if (centre.closed) {
+      while (!bad[start]) ++start;
+      start += 1;
+    }
+    int run_begin = -1;
+    for (int k = 0; k <= segs; ++k) {
+      bool good = k < segs && !bad[(start + k) % segs];
+      if (good && run_begin < 0) run_begin = k;
+      if (!good && run_begin >= 0) {
+        int run_segs = k - run_begin;
+        if (run_segs >= 2 || (run_segs == 1 && !any_bad))
+          emit(start + run_begin, start + k, false);
+        run_begin = -1;
+      }
+    }
+  }
+
+  // Interior samples: inside, clear of polylines, at least clearance apart.
+  SegmentGrid sample_grid(width, height, std::max(4.0, 4 * clearance));
+  for (const Point2& p : interior_samples) {
+    bool inside = domain_test ? InsideBoundary(p, boundary)
+                              : (p.x > clearance && p.y > clearance && p.x < width - clearance &&
+                                 p.y < height - clearance);
+    if (!inside) continue;
+    if (grid.Distance(p, p, clearance) < clearance) continue;
+    if (sample_grid.Distance(p, p, clearance) < clearance) continue;
+    sample_grid.Add(p, p);
+    out.samples.push_back(p);
+  }
+  return out;
+}
+
+}  // namespace sdvi

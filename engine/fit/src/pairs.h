@@ -1,0 +1,47 @@
+// Feature placement for the control mesh (paper section IV step 3): the domain boundary,
+// feature pairs offset from each fitted control polygon, and the rule that no two
+// feature polylines cross or come closer than a clearance.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "sdvi/features.h"
+#include "sdvi/image.h"
+#include "sdvi/status.h"
+
+namespace sdvi {
+
+// A polyline that becomes crease edges of the control mesh.
+struct PlacedPolyline {
+  std::vector<Point2> points;
+  bool closed = false;
+  std::vector<uint32_t> corners;  // explicit corners (indices into points)
+  bool boundary = false;          // bounds the domain (image rectangle or object contour)
+};
+
+struct PlacedFeatures {
+  std::vector<PlacedPolyline> polylines;  // boundary polylines first
+  std::vector<FeaturePair> pairs;         // indices into polylines
+  std::vector<Point2> samples;            // interior samples kept (inside, clear of features)
+  bool object_mode = false;               // the boundary comes from boundary curves
+  double max_edge = 0;                    // resolved CDT size bound, px
+};
+
+// Places the boundary and the features:
+//  - boundary: the image rectangle (4 tagged corners) unless some curve is a boundary
+//    curve; boundary curves are kept whole or dropped (when they cross a kept one);
+//  - control-polygon segments longer than 0.7 * max_edge are split evenly (inserting
+//    points on a segment changes the spline slightly; the detector's max_spacing keeps
+//    this rare);
+//  - each feature, longest first: its polygon offset along averaged (mitred) normals by
+//    +-d/2, d = max(min_distance, rho (1 - sharpness)) (use_sharpness = false: d = rho;
+//    pairs = false: the polygon itself, once); segments that would cross or come within
+//    the clearance of an already placed polyline, or leave the domain, are cut out and
+//    the remaining runs (>= 2 segments) become features of their own;
+//  - interior samples inside the domain and clear of every polyline, deduplicated.
+StatusOr<PlacedFeatures> PlaceFeatures(int width, int height, const std::vector<FeatureCurve>& curves,
+                                       const std::vector<Point2>& interior_samples,
+                                       const ControlMeshOptions& options);
+
+}  // namespace sdvi
