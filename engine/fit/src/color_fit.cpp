@@ -1,0 +1,480 @@
+// Colour least squares through the limit stencils (paper eq. 2-3); see color_fit.h.
+//
+// Assembly, per control triangle T (the parent of a set of fine triangles):
+//   F_T (local fine vertices x local fine vertices) = sum over T's fine triangles and their
+//       domain pixels of w_a w_b, g_T = sum of w_a I(p);
+//   S_T = the stencil rows of those fine vertices restricted to the support U_T (the
+//       control vertices any of them depends on, plus T's own three vertices);
+//   A += S_T^T F_T S_T, b += S_T^T g_T, scattered into the global sparse pattern.
+// Since every fine triangle has exactly one parent, summing over T gives S^T F S exactly.
+// Blocks of a batch of control triangles are computed in parallel and scattered serially
+// in triangle order, so the result does not depend on the thread count.
+#include "sdvi/color_fit.h"
+
+#include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <thread>
+
+namespace sdvi {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double SecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// R, G, B of pixel index p of raster (grey counts as R = G = B).
+inline void PixelRgb(const Raster& raster, size_t p, double rgb[3]) {
+  const float* px = &raster.data[p * size_t(raster.channels)];
+  if (raster.channels <= 2) {
+    rgb[0] = rgb[1] = rgb[2] = px[0];
+  } else {
+    rgb[0] = px[0];
+    rgb[1] = px[1];
+    rgb[2] = px[2];
+  }
+}
+
+// Flat lists of per-control-triangle index sets: set t = [offsets[t], offsets[t+1]).
+struct IndexSets {
+  std::vector<uint32_t> offsets{0};
+  std::vector<uint32_t> items;
+  size_t size() const { return offsets.size() - 1; }
+  uint32_t count(size_t t) const { return offsets[t + 1] - offsets[t]; }
+  const uint32_t* begin(size_t t) const { return items.data() + offsets[t]; }
+};
+
+// Scratch memory of one assembly thread.
+struct BlockScratch {
+  std::vector<int> local_of_control;  // control vertex -> column in U_T, or -1
+  std::vector<double> f, g, s, tmp;
+};
+
+// Computes A_T = S_T^T F_T S_T (u x u, row-major) and b_T = S_T^T g_T (u x 3) for control
+// triangle t into a_out / b_out.
+void ComputeBlock(size_t t, const IndexSets& fine_of_control, const IndexSets& local_fine,
+                  const IndexSets& support, const std::vector<Triangle>& fine_triangles,
+                  const std::vector<uint32_t>& sample_offsets,
+                  const std::vector<PixelSample>& samples, const std::vector<uint32_t>& sample_order,
+                  const Raster& target, const StencilTable& stencils, BlockScratch& scratch,
+                  double* a_out, double* b_out) {
+  const uint32_t nl = local_fine.count(t);
+  const uint32_t u = support.count(t);
+  const uint32_t* lf = local_fine.begin(t);
+  const uint32_t* us = support.begin(t);
+  scratch.f.assign(size_t(nl) * nl, 0.0);
+  scratch.g.assign(size_t(nl) * 3, 0.0);
+  double* f = scratch.f.data();
+  double* g = scratch.g.data();
+  bool any = false;
+  for (const uint32_t* ft = fine_of_control.begin(t); ft != fine_of_control.begin(t + 1); ++ft) {
+    const uint32_t begin = sample_offsets[*ft], end = sample_offsets[*ft + 1];
+    if (begin == end) continue;
+    any = true;
+    uint32_t la[3];
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t v = fine_triangles[*ft].v[k];
+      la[k] = uint32_t(std::find(lf, lf + nl, v) - lf);
+    }
+    for (uint32_t q = begin; q < end; ++q) {
+      const PixelSample& sm = samples[sample_order[q]];
+      const double w[3] = {sm.w0, sm.w1, sm.w2};
+      double rgb[3];
+      PixelRgb(target, sm.pixel, rgb);
+      for (int a = 0; a < 3; ++a) {
+        for (int b = 0; b < 3; ++b) f[la[a] * nl + la[b]] += w[a] * w[b];
+        for (int c = 0; c < 3; ++c) g[la[a] * 3 + c] += w[a] * rgb[c];
+      }
+    }
+  }
+  std::fill(a_out, a_out + size_t(u) * u, 0.0);
+  std::fill(b_out, b_out + size_t(u) * 3, 0.0);
+  if (!any) return;
+  for (uint32_t k = 0; k < u; ++k) scratch.local_of_control[us[k]] = int(k);
+  // S_T: nl x u dense.
+  scratch.s.assign(size_t(nl) * u, 0.0);
+  double* s = scratch.s.data();
+  for (uint32_t l = 0; l < nl; ++l) {
+    const uint32_t row = lf[l];
+    for (uint32_t k = stencils.offsets[row]; k < stencils.offsets[row + 1]; ++k) {
+      s[size_t(l) * u + scratch.local_of_control[stencils.indices[k]]] += stencils.weights[k];
+    }
+  }
+  for (uint32_t k = 0; k < u; ++k) scratch.local_of_control[us[k]] = -1;
+  // tmp = F_T S_T (nl x u).
+  scratch.tmp.assign(size_t(nl) * u, 0.0);
+  double* tmp = scratch.tmp.data();
+  for (uint32_t i = 0; i < nl; ++i) {
+    for (uint32_t j = 0; j < nl; ++j) {
+      const double fij = f[i * nl + j];
+      if (fij == 0.0) continue;
+      const double* sj = s + size_t(j) * u;
+      double* ti = tmp + size_t(i) * u;
+      for (uint32_t k = 0; k < u; ++k) ti[k] += fij * sj[k];
+    }
+  }
+  // A_T = S_T^T tmp, b_T = S_T^T g.
+  for (uint32_t i = 0; i < nl; ++i) {
+    const double* si = s + size_t(i) * u;
+    const double* ti = tmp + size_t(i) * u;
+    for (uint32_t a = 0; a < u; ++a) {
+      const double sia = si[a];
+      if (sia == 0.0) continue;
+      double* arow = a_out + size_t(a) * u;
+      for (uint32_t b = 0; b < u; ++b) arow[b] += sia * ti[b];
+      for (int c = 0; c < 3; ++c) b_out[a * 3 + c] += sia * g[i * 3 + c];
+    }
+  }
+}
+
+}  // namespace
+
+bool InDomain(const Raster& target, const Raster* mask, int x, int y) {
+  if (target.has_alpha() && !(target.at(x, y, target.channels - 1) > 0.5f)) return false;
+  if (mask != nullptr) {
+    if (mask->has_alpha()) return mask->at(x, y, mask->channels - 1) > 0.5f;
+    return mask->at(x, y, 0) > 127.5f;
+  }
+  return true;
+}
+
+StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* mask,
+                             const ColorFitOptions& options) {
+  const int width = target.width, height = target.height;
+  if (target.empty() || target.channels < 1 || target.channels > 4 ||
+      target.data.size() != size_t(width) * height * target.channels) {
+    return Status(StatusCode::kInvalidArgument,
+                  "colour fit: target raster is empty or malformed (" + std::to_string(width) +
+                      "x" + std::to_string(height) + ", " + std::to_string(target.channels) +
+                      " channels)");
+  }
+  if (int64_t(image.width) != width || int64_t(image.height) != height) {
+    return Status(StatusCode::kInvalidArgument,
+                  "colour fit: image frame is " + std::to_string(image.width) + "x" +
+                      std::to_string(image.height) + " but the target raster is " +
+                      std::to_string(width) + "x" + std::to_string(height));
+  }
+  if (mask != nullptr &&
+      (mask->width != width || mask->height != height || mask->channels < 1 ||
+       mask->data.size() != size_t(width) * height * mask->channels)) {
+    return Status(StatusCode::kInvalidArgument,
+                  "colour fit: mask is " + std::to_string(mask->width) + "x" +
+                      std::to_string(mask->height) + ", expected " + std::to_string(width) + "x" +
+                      std::to_string(height));
+  }
+  if (!(options.regularization >= 0) || !std::isfinite(options.regularization)) {
+    return Status(StatusCode::kInvalidArgument,
+                  "colour fit: regularization must be a finite value >= 0");
+  }
+  if (image.vertices.empty() || image.triangles.empty()) {
+    return Status(StatusCode::kEmptyInput, "colour fit: the control mesh has no triangles");
+  }
+
+  ColorFit fit;
+  Clock::time_point start = Clock::now();
+  SDVI_ASSIGN_OR_RETURN(fit.surface, BuildLimitSurface(image, options.surface));
+  fit.fine = EvaluateSurface(fit.surface, image.vertices);
+  fit.seconds_surface = SecondsSince(start);
+
+  start = Clock::now();
+  fit.coverage = MapPixels(fit.surface.triangles, fit.fine, Viewport::Identity(width, height));
+  fit.seconds_coverage = SecondsSince(start);
+
+  start = Clock::now();
+  const LimitSurface& surface = fit.surface;
+  const size_t num_control = image.vertices.size();
+  const size_t num_fine_tris = surface.triangles.size();
+  const size_t num_control_tris = image.triangles.size();
+  const StencilTable& stencils = surface.stencils;
+  if (surface.parent_triangle.size() != num_fine_tris ||
+      stencils.rows() != fit.fine.size() || stencils.num_control != num_control) {
+    return Status(StatusCode::kInternal,
+                  "colour fit: limit surface tables disagree (parents, stencil rows, controls)");
+  }
+
+  // Domain samples grouped by fine triangle (stable: pixel order inside a triangle).
+  const std::vector<PixelSample>& samples = fit.coverage.samples;
+  std::vector<uint32_t> sample_offsets(num_fine_tris + 1, 0);
+  std::vector<uint8_t> use(samples.size(), 0);
+  for (size_t q = 0; q < samples.size(); ++q) {
+    const PixelSample& sm = samples[q];
+    if (sm.triangle >= num_fine_tris || sm.pixel >= uint64_t(width) * height) continue;
+    if (!InDomain(target, mask, int(sm.pixel % width), int(sm.pixel / width))) continue;
+    use[q] = 1;
+    ++sample_offsets[sm.triangle + 1];
+  }
+  for (size_t t = 0; t < num_fine_tris; ++t) sample_offsets[t + 1] += sample_offsets[t];
+  fit.domain_pixels = sample_offsets[num_fine_tris];
+  std::vector<uint32_t> sample_order(fit.domain_pixels);
+  {
+    std::vector<uint32_t> cursor(sample_offsets.begin(), sample_offsets.end() - 1);
+    for (size_t q = 0; q < samples.size(); ++q) {
+      if (use[q]) sample_order[cursor[samples[q].triangle]++] = uint32_t(q);
+    }
+  }
+  std::vector<uint8_t>().swap(use);
+
+  // Fine triangles grouped by control triangle.
+  IndexSets fine_of_control;
+  fine_of_control.offsets.assign(num_control_tris + 1, 0);
+  for (uint32_t parent : surface.parent_triangle) {
+    if (parent >= num_control_tris) {
+      return Status(StatusCode::kInternal, "colour fit: fine triangle parent out of range");
+    }
+    ++fine_of_control.offsets[parent + 1];
+  }
+  for (size_t t = 0; t < num_control_tris; ++t) {
+    fine_of_control.offsets[t + 1] += fine_of_control.offsets[t];
+  }
+  fine_of_control.items.resize(num_fine_tris);
+  {
+    std::vector<uint32_t> cursor(fine_of_control.offsets.begin(), fine_of_control.offsets.end() - 1);
+    for (size_t f = 0; f < num_fine_tris; ++f) {
+      fine_of_control.items[cursor[surface.parent_triangle[f]]++] = uint32_t(f);
+    }
+  }
+
+  // Local fine vertices and stencil support U_T of each control triangle (first-appearance
+  // order; T's own vertices first).
+  IndexSets local_fine, support;
+  local_fine.offsets.reserve(num_control_tris + 1);
+  support.offsets.reserve(num_control_tris + 1);
+  {
+    std::vector<uint8_t> seen(num_control, 0);
+    std::vector<uint32_t> lf;
+    for (size_t t = 0; t < num_control_tris; ++t) {
+      lf.clear();
+      for (const uint32_t* ft = fine_of_control.begin(t); ft != fine_of_control.begin(t + 1); ++ft) {
+        for (uint32_t v : surface.triangles[*ft].v) {
+          if (std::find(lf.begin(), lf.end(), v) == lf.end()) lf.push_back(v);
+        }
+      }
+      local_fine.items.insert(local_fine.items.end(), lf.begin(), lf.end());
+      local_fine.offsets.push_back(uint32_t(local_fine.items.size()));
+      const size_t first = support.items.size();
+      auto add = [&](uint32_t c) {
+        if (!seen[c]) {
+          seen[c] = 1;
+          support.items.push_back(c);
+        }
+      };
+      for (uint32_t c : image.triangles[t].v) add(c);
+      for (uint32_t v : lf) {
+        for (uint32_t k = stencils.offsets[v]; k < stencils.offsets[v + 1]; ++k) {
+          add(stencils.indices[k]);
+        }
+      }
+      for (size_t k = first; k < support.items.size(); ++k) seen[support.items[k]] = 0;
+      support.offsets.push_back(uint32_t(support.items.size()));
+    }
+  }
+
+  // Sparsity pattern of A (symmetric, full): row i holds every j sharing some U_T with i.
+  std::vector<int> row_start(num_control + 1, 0);
+  std::vector<int> columns;
+  {
+    IndexSets tris_of_control;
+    tris_of_control.offsets.assign(num_control + 1, 0);
+    for (uint32_t c : support.items) ++tris_of_control.offsets[c + 1];
+    for (size_t c = 0; c < num_control; ++c) tris_of_control.offsets[c + 1] += tris_of_control.offsets[c];
+    tris_of_control.items.resize(support.items.size());
+    std::vector<uint32_t> cursor(tris_of_control.offsets.begin(), tris_of_control.offsets.end() - 1);
+    for (size_t t = 0; t < num_control_tris; ++t) {
+      for (const uint32_t* c = support.begin(t); c != support.begin(t + 1); ++c) {
+        tris_of_control.items[cursor[*c]++] = uint32_t(t);
+      }
+    }
+    std::vector<uint8_t> seen(num_control, 0);
+    std::vector<int> row;
+    for (size_t i = 0; i < num_control; ++i) {
+      row.clear();
+      row.push_back(int(i));  // the diagonal always exists (regulariser)
+      seen[i] = 1;
+      for (const uint32_t* t = tris_of_control.begin(i); t != tris_of_control.begin(i + 1); ++t) {
+        for (const uint32_t* c = support.begin(*t); c != support.begin(*t + 1); ++c) {
+          if (!seen[*c]) {
+            seen[*c] = 1;
+            row.push_back(int(*c));
+          }
+        }
+      }
+      for (int c : row) seen[c] = 0;
+      std::sort(row.begin(), row.end());
+      columns.insert(columns.end(), row.begin(), row.end());
+      row_start[i + 1] = int(columns.size());
+    }
+  }
+  std::vector<double> values(columns.size(), 0.0);
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(Eigen::Index(num_control), 3);
+  auto position = [&](uint32_t row, uint32_t col) {
+    const int* b = columns.data() + row_start[row];
+    const int* e = columns.data() + row_start[row + 1];
+    return size_t(std::lower_bound(b, e, int(col)) - columns.data());
+  };
+
+  // Blocks in parallel per batch, scattered serially in triangle order.
+  const int threads = std::max(1, options.threads);
+  const size_t batch = 4096;
+  std::vector<BlockScratch> scratch(threads);
+  for (BlockScratch& s : scratch) s.local_of_control.assign(num_control, -1);
+  std::vector<size_t> block_offset(batch + 1);
+  std::vector<double> blocks;
+  for (size_t t0 = 0; t0 < num_control_tris; t0 += batch) {
+    const size_t t1 = std::min(num_control_tris, t0 + batch);
+    block_offset[0] = 0;
+    for (size_t t = t0; t < t1; ++t) {
+      const size_t u = support.count(t);
+      block_offset[t - t0 + 1] = block_offset[t - t0] + u * u + u * 3;
+    }
+    blocks.resize(block_offset[t1 - t0]);
+    auto work = [&](int id) {
+      const size_t n = t1 - t0;
+      const size_t lo = t0 + n * id / threads, hi = t0 + n * (id + 1) / threads;
+      for (size_t t = lo; t < hi; ++t) {
+        const size_t u = support.count(t);
+        double* a = blocks.data() + block_offset[t - t0];
+        ComputeBlock(t, fine_of_control, local_fine, support, surface.triangles, sample_offsets,
+                     samples, sample_order, target, stencils, scratch[id], a, a + u * u);
+      }
+    };
+    if (threads == 1 || t1 - t0 < 64) {
+      for (int id = 0; id < threads; ++id) work(id);
+    } else {
+      std::vector<std::thread> pool;
+      for (int id = 1; id < threads; ++id) pool.emplace_back(work, id);
+      work(0);
+      for (std::thread& th : pool) th.join();
+    }
+    for (size_t t = t0; t < t1; ++t) {
+      const size_t u = support.count(t);
+      const uint32_t* us = support.begin(t);
+      const double* a = blocks.data() + block_offset[t - t0];
+      const double* b = a + u * u;
+      for (size_t i = 0; i < u; ++i) {
+        for (int c = 0; c < 3; ++c) rhs(us[i], c) += b[i * 3 + c];
+        const double* arow = a + i * u;
+        bool nonzero = false;
+        for (size_t j = 0; j < u && !nonzero; ++j) nonzero = arow[j] != 0.0;
+        if (!nonzero) continue;
+        for (size_t j = 0; j < u; ++j) {
+          if (arow[j] != 0.0) values[position(us[i], us[j])] += arow[j];
+        }
+      }
+    }
+  }
+  std::vector<double>().swap(blocks);
+
+  // Regulariser: lambda * s * (graph Laplacian of the control edges) + 1e-9 s I.
+  double diagonal_sum = 0;
+  size_t diagonal_count = 0;
+  for (size_t i = 0; i < num_control; ++i) {
+    const double d = values[position(uint32_t(i), uint32_t(i))];
+    if (d > 0) {
+      diagonal_sum += d;
+      ++diagonal_count;
+    }
+  }
+  const double scale = diagonal_count > 0 ? diagonal_sum / double(diagonal_count) : 1.0;
+  {
+    std::vector<Edge> edges;
+    edges.reserve(num_control_tris * 3);
+    for (const Triangle& tri : image.triangles) {
+      for (int k = 0; k < 3; ++k) edges.push_back(Edge::Of(tri.v[k], tri.v[(k + 1) % 3]));
+    }
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    const double weight = options.regularization * scale;
+    if (weight > 0) {
+      for (const Edge& e : edges) {
+        if (e.a == e.b) continue;
+        values[position(e.a, e.a)] += weight;
+        values[position(e.b, e.b)] += weight;
+        values[position(e.a, e.b)] -= weight;
+        values[position(e.b, e.a)] -= weight;
+      }
+    }
+    for (size_t i = 0; i < num_control; ++i) {
+      values[position(uint32_t(i), uint32_t(i))] += 1e-9 * scale;
+    }
+  }
+  fit.seconds_assemble = SecondsSince(start);
+
+  start = Clock::now();
+  Eigen::SparseMatrix<double> matrix;
+  {
+    const Eigen::Index n = Eigen::Index(num_control);
+    const Eigen::Index nnz = Eigen::Index(columns.size());
+    Eigen::Map<const Eigen::SparseMatrix<double>> view(n, n, nnz, row_start.data(),
+                                                       columns.data(), values.data());
+    matrix = view;  // symmetric: the row-major pattern read as column-major is the same matrix
+  }
+  std::vector<int>().swap(columns);
+  std::vector<double>().swap(values);
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
+  solver.compute(matrix);
+  if (solver.info() != Eigen::Success) {
+    return Status(StatusCode::kInternal,
+                  "colour fit: sparse LDL^T factorisation of the " + std::to_string(num_control) +
+                      "-vertex normal equations failed");
+  }
+  const Eigen::MatrixXd colors = solver.solve(rhs);
+  if (solver.info() != Eigen::Success || !colors.allFinite()) {
+    return Status(StatusCode::kInternal, "colour fit: the normal equations gave no finite solution");
+  }
+  for (size_t i = 0; i < num_control; ++i) {
+    image.vertices[i].r = float(colors(Eigen::Index(i), 0));
+    image.vertices[i].g = float(colors(Eigen::Index(i), 1));
+    image.vertices[i].b = float(colors(Eigen::Index(i), 2));
+  }
+  fit.seconds_solve = SecondsSince(start);
+
+  start = Clock::now();
+  fit.fine = EvaluateSurface(fit.surface, image.vertices);
+  double sse = 0;
+  for (const PixelSample& sm : samples) {
+    if (sm.triangle >= num_fine_tris || sm.pixel >= uint64_t(width) * height) continue;
+    if (!InDomain(target, mask, int(sm.pixel % width), int(sm.pixel / width))) continue;
+    const Triangle& tri = surface.triangles[sm.triangle];
+    const Vertex& p0 = fit.fine[tri.v[0]];
+    const Vertex& p1 = fit.fine[tri.v[1]];
+    const Vertex& p2 = fit.fine[tri.v[2]];
+    double rgb[3];
+    PixelRgb(target, sm.pixel, rgb);
+    const double rec[3] = {sm.w0 * p0.r + sm.w1 * p1.r + sm.w2 * p2.r,
+                           sm.w0 * p0.g + sm.w1 * p1.g + sm.w2 * p2.g,
+                           sm.w0 * p0.b + sm.w1 * p1.b + sm.w2 * p2.b};
+    for (int c = 0; c < 3; ++c) {
+      const double d = std::clamp(rec[c], 0.0, 255.0) - rgb[c];
+      sse += d * d;
+    }
+  }
+  fit.sum_squared_error = sse;
+  fit.seconds_surface += SecondsSince(start);
+  return fit;
+}
+
+Raster ReconstructRaster(const ColorFit& fit) {
+  Raster out(fit.coverage.width, fit.coverage.height, 4);
+  const size_t pixels = size_t(out.width) * out.height;
+  for (const PixelSample& sm : fit.coverage.samples) {
+    if (sm.pixel >= pixels || sm.triangle >= fit.surface.triangles.size()) continue;
+    const Triangle& tri = fit.surface.triangles[sm.triangle];
+    const Vertex& p0 = fit.fine[tri.v[0]];
+    const Vertex& p1 = fit.fine[tri.v[1]];
+    const Vertex& p2 = fit.fine[tri.v[2]];
+    float* px = &out.data[size_t(sm.pixel) * 4];
+    px[0] = std::clamp(sm.w0 * p0.r + sm.w1 * p1.r + sm.w2 * p2.r, 0.f, 255.f);
+    px[1] = std::clamp(sm.w0 * p0.g + sm.w1 * p1.g + sm.w2 * p2.g, 0.f, 255.f);
+    px[2] = std::clamp(sm.w0 * p0.b + sm.w1 * p1.b + sm.w2 * p2.b, 0.f, 255.f);
+    px[3] = 1.f;
+  }
+  return out;
+}
+
+}  // namespace sdvi

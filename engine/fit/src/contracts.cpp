@@ -1,4 +1,0 @@
-// Keeps sdvi_fit a valid library while its modules land; the fit owners remove it.
-namespace sdvi {
-void FitModulePresent() {}
-}  // namespace sdvi

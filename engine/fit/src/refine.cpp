@@ -1,0 +1,169 @@
+// Interior sample placement: initial grid, error map, greedy far-apart selection.
+#include "refine.h"
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+#include "sdvi/color_fit.h"
+
+namespace sdvi {
+namespace {
+
+// A uniform grid of cells of side `cell` holding points, for "is any point closer than
+// radius" queries with radius <= cell.
+class PointGrid {
+ public:
+  PointGrid(int width, int height, double cell)
+      : cell_(std::max(cell, 1e-3)),
+        cols_(std::max(1, int(std::ceil(width / cell_)) + 1)),
+        rows_(std::max(1, int(std::ceil(height / cell_)) + 1)),
+        cells_(size_t(cols_) * rows_) {}
+
+  void Add(double x, double y) { cells_[Index(x, y)].push_back({x, y}); }
+
+  bool AnyCloserThan(double x, double y, double radius) const {
+    const int cx = CellX(x), cy = CellY(y);
+    const double r2 = radius * radius;
+    for (int j = std::max(0, cy - 1); j <= std::min(rows_ - 1, cy + 1); ++j) {
+      for (int i = std::max(0, cx - 1); i <= std::min(cols_ - 1, cx + 1); ++i) {
+        for (const Point2& p : cells_[size_t(j) * cols_ + i]) {
+          const double dx = p.x - x, dy = p.y - y;
+          if (dx * dx + dy * dy < r2) return true;
+        }
+      }
+    }
+    return false;
+  }
+
+ private:
+  int CellX(double x) const { return std::clamp(int(std::floor(x / cell_)), 0, cols_ - 1); }
+  int CellY(double y) const { return std::clamp(int(std::floor(y / cell_)), 0, rows_ - 1); }
+  size_t Index(double x, double y) const { return size_t(CellY(y)) * cols_ + CellX(x); }
+
+  double cell_;
+  int cols_, rows_;
+  std::vector<std::vector<Point2>> cells_;
+};
+
+// OpenCV fixed-point (shift 4) pixel coordinate of source point (x, y): OpenCV puts pixel
+// (i, j)'s centre at (i, j), sdvi at (i + 0.5, j + 0.5).
+cv::Point FixedPoint(double x, double y) {
+  return {int(std::lround((x - 0.5) * 16)), int(std::lround((y - 0.5) * 16))};
+}
+
+}  // namespace
+
+std::vector<uint8_t> BlockedPixels(const Raster& target, const Raster* mask, const Image* mesh,
+                                   const std::vector<FeatureCurve>& curves, double clearance) {
+  const int width = target.width, height = target.height;
+  cv::Mat1b blocked(height, width, uchar(0));
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      if (!InDomain(target, mask, x, y)) blocked(y, x) = 1;
+    }
+  }
+  const int thickness = std::max(1, int(std::lround(2 * clearance)));
+  auto segment = [&](double x0, double y0, double x1, double y1) {
+    cv::line(blocked, FixedPoint(x0, y0), FixedPoint(x1, y1), cv::Scalar(1), thickness,
+             cv::LINE_8, 4);
+  };
+  if (mesh != nullptr) {
+    for (const Edge& e : mesh->crease_edges) {
+      if (e.a >= mesh->vertices.size() || e.b >= mesh->vertices.size()) continue;
+      const Vertex& a = mesh->vertices[e.a];
+      const Vertex& b = mesh->vertices[e.b];
+      segment(a.x, a.y, b.x, b.y);
+    }
+  } else {
+    for (const FeatureCurve& c : curves) {
+      const size_t n = c.points.size();
+      for (size_t k = 0; k + 1 < n + (c.closed ? 1 : 0); ++k) {
+        const Point2& a = c.points[k];
+        const Point2& b = c.points[(k + 1) % n];
+        segment(a.x, a.y, b.x, b.y);
+      }
+    }
+  }
+  // The image rectangle's border is a crease too.
+  const int band = std::min({int(std::ceil(clearance)), width, height});
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      if (x < band || y < band || x >= width - band || y >= height - band) blocked(y, x) = 1;
+    }
+  }
+  return std::vector<uint8_t>(blocked.begin(), blocked.end());
+}
+
+std::vector<Point2> GridSamples(int width, int height, double spacing,
+                                const std::vector<uint8_t>& blocked) {
+  std::vector<Point2> samples;
+  if (!(spacing > 0)) return samples;
+  const double row_step = spacing * std::sqrt(3.0) / 2;
+  int row = 0;
+  for (double y = row_step / 2; y < height; y += row_step, ++row) {
+    for (double x = (row % 2 ? spacing : spacing / 2); x < width; x += spacing) {
+      const int px = int(x), py = int(y);
+      if (px < 0 || py < 0 || px >= width || py >= height) continue;
+      if (blocked[size_t(py) * width + px]) continue;
+      samples.push_back({px + 0.5, py + 0.5});
+    }
+  }
+  return samples;
+}
+
+std::vector<float> ErrorMap(const Raster& reconstruction, const Raster& target, const Raster* mask,
+                            double sigma) {
+  const int width = target.width, height = target.height;
+  cv::Mat1f error(height, width, 0.f);
+  std::vector<uint8_t> domain(size_t(width) * height, 0);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      if (!InDomain(target, mask, x, y)) continue;
+      domain[size_t(y) * width + x] = 1;
+      float sum = 0;
+      for (int c = 0; c < 3; ++c) {
+        const float ref = target.channels <= 2 ? target.at(x, y, 0) : target.at(x, y, c);
+        const float d = reconstruction.at(x, y, c) - ref;
+        sum += d * d;
+      }
+      error(y, x) = sum;
+    }
+  }
+  if (sigma > 0) cv::GaussianBlur(error, error, cv::Size(0, 0), sigma, sigma, cv::BORDER_REFLECT);
+  std::vector<float> out(error.begin(), error.end());
+  for (size_t p = 0; p < out.size(); ++p) {
+    if (!domain[p]) out[p] = -1.f;
+  }
+  return out;
+}
+
+std::vector<Point2> SelectRefinementSamples(const std::vector<float>& error, int width, int height,
+                                            double threshold, double spacing,
+                                            const std::vector<Vertex>& existing,
+                                            const std::vector<uint8_t>& blocked,
+                                            size_t max_count) {
+  std::vector<Point2> chosen;
+  if (max_count == 0) return chosen;
+  std::vector<uint32_t> candidates;
+  for (size_t p = 0; p < error.size(); ++p) {
+    if (error[p] > threshold && !blocked[p]) candidates.push_back(uint32_t(p));
+  }
+  std::sort(candidates.begin(), candidates.end(), [&](uint32_t a, uint32_t b) {
+    return error[a] != error[b] ? error[a] > error[b] : a < b;
+  });
+  PointGrid grid(width, height, spacing);
+  for (const Vertex& v : existing) grid.Add(v.x, v.y);
+  for (uint32_t p : candidates) {
+    const double x = p % width + 0.5, y = double(p / width) + 0.5;
+    if (grid.AnyCloserThan(x, y, spacing)) continue;
+    grid.Add(x, y);
+    chosen.push_back({x, y});
+    if (chosen.size() >= max_count) break;
+  }
+  return chosen;
+}
+
+}  // namespace sdvi

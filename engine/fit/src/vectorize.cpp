@@ -1,0 +1,326 @@
+// The vectorizer's driver (paper section IV): features -> control mesh -> colour fit ->
+// refinement rounds; see vectorize.h for the rules and the budget.
+#include "sdvi/vectorize.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <string>
+
+#include "refine.h"
+#include "sdvi/progress.h"
+#include "sdvi/render.h"
+
+namespace sdvi {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double SecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+double PsnrOf(double sum_squared_error, uint64_t pixels) {
+  if (pixels == 0) return 0;
+  const double mse = sum_squared_error / (3.0 * double(pixels));
+  return mse <= 0 ? 99.0 : 10.0 * std::log10(255.0 * 255.0 / mse);
+}
+
+double CurveLength(const FeatureCurve& c) {
+  double len = 0;
+  const size_t n = c.points.size();
+  for (size_t k = 0; k + 1 < n + (c.closed && n > 2 ? 1 : 0); ++k) {
+    const Point2& a = c.points[k];
+    const Point2& b = c.points[(k + 1) % n];
+    len += std::hypot(b.x - a.x, b.y - a.y);
+  }
+  return len;
+}
+
+// Keeps the boundary curves and the longest other curves whose polylines (twice, when
+// paired) fit in `vertex_budget` control vertices; the kept curves stay in input order.
+std::vector<FeatureCurve> KeepFeaturesWithinBudget(const std::vector<FeatureCurve>& curves,
+                                                   double vertex_budget, bool pairs) {
+  std::vector<size_t> order(curves.size());
+  std::iota(order.begin(), order.end(), size_t(0));
+  std::vector<double> length(curves.size());
+  for (size_t i = 0; i < curves.size(); ++i) length[i] = CurveLength(curves[i]);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return length[a] > length[b]; });
+  std::vector<uint8_t> keep(curves.size(), 0);
+  double used = 0;
+  for (size_t i : order) {
+    if (curves[i].boundary) {
+      keep[i] = 1;
+      continue;
+    }
+    const double cost = double(curves[i].points.size()) * (pairs ? 2 : 1);
+    if (used + cost > vertex_budget) continue;
+    used += cost;
+    keep[i] = 1;
+  }
+  std::vector<FeatureCurve> kept;
+  for (size_t i = 0; i < curves.size(); ++i) {
+    if (keep[i]) kept.push_back(curves[i]);
+  }
+  return kept;
+}
+
+// Drops the shorter half of the non-boundary curves (at least one); false if none is left.
+bool DropShorterHalf(std::vector<FeatureCurve>& curves) {
+  std::vector<size_t> interior;
+  for (size_t i = 0; i < curves.size(); ++i) {
+    if (!curves[i].boundary) interior.push_back(i);
+  }
+  if (interior.empty()) return false;
+  std::stable_sort(interior.begin(), interior.end(), [&](size_t a, size_t b) {
+    return CurveLength(curves[a]) > CurveLength(curves[b]);
+  });
+  std::vector<uint8_t> drop(curves.size(), 0);
+  for (size_t k = interior.size() / 2; k < interior.size(); ++k) drop[interior[k]] = 1;
+  std::vector<FeatureCurve> kept;
+  for (size_t i = 0; i < curves.size(); ++i) {
+    if (!drop[i]) kept.push_back(curves[i]);
+  }
+  curves.swap(kept);
+  return true;
+}
+
+Status CheckOptions(const VectorizeOptions& o) {
+  auto bad = [](const std::string& what) {
+    return Status(StatusCode::kInvalidArgument, "vectorize: " + what);
+  };
+  if (!(o.target_psnr >= 0) || !std::isfinite(o.target_psnr)) return bad("target PSNR must be >= 0");
+  if (o.max_triangles < 0) return bad("max triangles must be >= 0");
+  if (!(o.compression_ratio >= 1) || !std::isfinite(o.compression_ratio)) {
+    return bad("compression ratio must be >= 1 pixel per vertex");
+  }
+  if (o.iterations < 0) return bad("iterations must be >= 0");
+  if (!(o.error_threshold >= 0) || !(o.error_blur_sigma >= 0) || !(o.spacing_factor > 0) ||
+      !(o.min_spacing > 0) || !(o.initial_fraction >= 0 && o.initial_fraction <= 1) ||
+      !(o.max_feature_fraction >= 0 && o.max_feature_fraction <= 1)) {
+    return bad("refinement constants out of range");
+  }
+  if (o.threads < 1) return bad("threads must be >= 1");
+  return Status::Ok();
+}
+
+void AddFitTimes(const ColorFit& fit, VectorizeTimings& t) {
+  t.surface += fit.seconds_surface;
+  t.coverage += fit.seconds_coverage;
+  t.assemble += fit.seconds_assemble;
+  t.solve += fit.seconds_solve;
+}
+
+}  // namespace
+
+StatusOr<VectorizeResult> Vectorize(const Raster& raster, const Raster* mask,
+                                    const VectorizeOptions& options) {
+  const Clock::time_point all_start = Clock::now();
+  if (raster.empty() || raster.data.size() != size_t(raster.width) * raster.height * raster.channels) {
+    return Status(StatusCode::kEmptyInput, "vectorize: the input raster is empty or malformed");
+  }
+  if (raster.channels < 1 || raster.channels > 4) {
+    return Status(StatusCode::kInvalidArgument,
+                  "vectorize: input has " + std::to_string(raster.channels) + " channels, expected 1..4");
+  }
+  if (mask != nullptr && (mask->width != raster.width || mask->height != raster.height ||
+                          mask->channels < 1)) {
+    return Status(StatusCode::kInvalidArgument,
+                  "vectorize: mask is " + std::to_string(mask->width) + "x" +
+                      std::to_string(mask->height) + ", the image " + std::to_string(raster.width) +
+                      "x" + std::to_string(raster.height));
+  }
+  SDVI_RETURN_IF_ERROR(CheckOptions(options));
+  const int width = raster.width, height = raster.height;
+  Progress* progress = options.progress;
+  auto phase = [&](const std::string& name) {
+    if (progress != nullptr) progress->Phase(name);
+  };
+
+  VectorizeResult result;
+  VectorizeReport& report = result.report;
+  VectorizeTimings& seconds = report.seconds;
+
+  uint64_t domain_pixels = 0;
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) domain_pixels += InDomain(raster, mask, x, y) ? 1 : 0;
+  }
+  if (domain_pixels == 0) {
+    return Status(StatusCode::kEmptyInput, "vectorize: no pixel of the image is in the domain "
+                                           "(alpha or mask is zero everywhere)");
+  }
+  report.pixels = domain_pixels;
+  const double vertex_budget =
+      options.max_triangles > 0 ? options.max_triangles / 2.0
+                                : double(domain_pixels) / options.compression_ratio;
+  const size_t triangle_cap = options.max_triangles > 0 ? size_t(options.max_triangles) : 0;
+
+  // 1-2. Curvilinear features and their B-splines.
+  phase("features");
+  Clock::time_point start = Clock::now();
+  SDVI_ASSIGN_OR_RETURN(std::vector<FeatureCurve> detected,
+                        DetectFeatures(raster, mask, options.features));
+  std::vector<FeatureCurve> curves = KeepFeaturesWithinBudget(
+      detected, options.max_feature_fraction * vertex_budget, options.mesh.pairs);
+  seconds.features += SecondsSince(start);
+
+  // 3-4. Initial interior samples and the control mesh.
+  phase("mesh");
+  start = Clock::now();
+  const double clearance = std::max(1.0, 0.5 * options.min_spacing);
+  std::vector<uint8_t> blocked = BlockedPixels(raster, mask, nullptr, curves, clearance);
+  const double initial_count = std::max(4.0, options.initial_fraction * vertex_budget);
+  const double grid_spacing = std::sqrt(2.0 * double(domain_pixels) / (std::sqrt(3.0) * initial_count));
+  std::vector<Point2> samples = GridSamples(width, height, grid_spacing, blocked);
+  seconds.refine += SecondsSince(start);
+
+  start = Clock::now();
+  Image mesh;
+  for (int attempt = 0;; ++attempt) {
+    SDVI_ASSIGN_OR_RETURN(mesh, BuildControlMesh(width, height, curves, samples, options.mesh));
+    if (triangle_cap == 0 || mesh.triangles.size() <= triangle_cap || attempt >= 12) break;
+    // Over budget before any refinement: fewer grid samples first, then fewer features.
+    if (!samples.empty()) {
+      samples.resize(samples.size() / 2);
+    } else if (!DropShorterHalf(curves)) {
+      break;
+    }
+  }
+  seconds.triangulate += SecondsSince(start);
+
+  phase("fit");
+  SDVI_ASSIGN_OR_RETURN(ColorFit fit, FitColors(mesh, raster, mask, options.fit));
+  AddFitTimes(fit, seconds);
+  double psnr = PsnrOf(fit.sum_squared_error, fit.domain_pixels);
+  report.history.push_back(
+      {uint32_t(mesh.vertices.size()), uint32_t(mesh.triangles.size()), uint32_t(samples.size()), psnr});
+  if (progress != nullptr) {
+    progress->Update(1.0, std::to_string(mesh.triangles.size()) + " triangles, " +
+                              std::to_string(psnr).substr(0, 5) + " dB");
+  }
+
+  // 6. Refinement rounds.
+  const double spacing = std::max(options.min_spacing,
+                                  options.spacing_factor * std::sqrt(double(domain_pixels) / vertex_budget));
+  const double threshold = 3.0 * options.error_threshold * options.error_threshold;
+  for (int round = 1; round <= options.iterations; ++round) {
+    if (options.target_psnr > 0 && psnr >= options.target_psnr) break;
+    double room = vertex_budget - double(mesh.vertices.size());
+    if (triangle_cap > 0) {
+      room = std::min(room, (double(triangle_cap) - double(mesh.triangles.size())) / 2.0);
+    }
+    if (room < 1) break;
+    const size_t want = size_t(std::min(room, std::max(64.0, double(mesh.vertices.size()))));
+
+    phase("refine " + std::to_string(round));
+    start = Clock::now();
+    const Raster reconstruction = ReconstructRaster(fit);
+    const std::vector<float> error = ErrorMap(reconstruction, raster, mask, options.error_blur_sigma);
+    blocked = BlockedPixels(raster, mask, &mesh, curves, clearance);
+    std::vector<Point2> added = SelectRefinementSamples(error, width, height, threshold, spacing,
+                                                        mesh.vertices, blocked, want);
+    seconds.refine += SecondsSince(start);
+    if (added.empty()) break;
+
+    start = Clock::now();
+    Image candidate;
+    std::vector<Point2> next;
+    bool accepted = false;
+    for (int attempt = 0; attempt < 5 && !added.empty(); ++attempt) {
+      next = samples;
+      next.insert(next.end(), added.begin(), added.end());
+      SDVI_ASSIGN_OR_RETURN(candidate, BuildControlMesh(width, height, curves, next, options.mesh));
+      if (triangle_cap == 0 || candidate.triangles.size() <= triangle_cap) {
+        accepted = true;
+        break;
+      }
+      const size_t excess = candidate.triangles.size() - triangle_cap;
+      const size_t cut = std::min(added.size(), (excess + 1) / 2 + added.size() / 10 + 1);
+      added.resize(added.size() - cut);
+    }
+    seconds.triangulate += SecondsSince(start);
+    if (!accepted) break;
+
+    phase("fit " + std::to_string(round));
+    SDVI_ASSIGN_OR_RETURN(ColorFit refit, FitColors(candidate, raster, mask, options.fit));
+    AddFitTimes(refit, seconds);
+    mesh = std::move(candidate);
+    fit = std::move(refit);
+    samples = std::move(next);
+    psnr = PsnrOf(fit.sum_squared_error, fit.domain_pixels);
+    report.iterations = round;
+    report.history.push_back({uint32_t(mesh.vertices.size()), uint32_t(mesh.triangles.size()),
+                              uint32_t(added.size()), psnr});
+    if (progress != nullptr) {
+      progress->Update(1.0, std::to_string(mesh.triangles.size()) + " triangles, " +
+                                std::to_string(psnr).substr(0, 5) + " dB");
+    }
+  }
+
+  // Final metrics, measured the way `sdvi render` + `sdvi compare` would.
+  phase("metrics");
+  start = Clock::now();
+  RenderOptions render_options;
+  render_options.viewport = Viewport::Identity(width, height);
+  SDVI_ASSIGN_OR_RETURN(result.reconstruction, Render(mesh, render_options));
+  Raster reference_with_domain;
+  const Raster* reference = &raster;
+  if (mask != nullptr) {
+    reference_with_domain = Raster(width, height, 4);
+    for (int y = 0; y < height; ++y) {
+      for (int x = 0; x < width; ++x) {
+        for (int c = 0; c < 3; ++c) {
+          reference_with_domain.at(x, y, c) = raster.channels <= 2 ? raster.at(x, y, 0) : raster.at(x, y, c);
+        }
+        reference_with_domain.at(x, y, 3) = InDomain(raster, mask, x, y) ? 1.f : 0.f;
+      }
+    }
+    reference = &reference_with_domain;
+  }
+  SDVI_ASSIGN_OR_RETURN(ImageMetrics metrics, CompareImages(result.reconstruction, *reference));
+  seconds.metrics += SecondsSince(start);
+
+  report.vertices = uint32_t(mesh.vertices.size());
+  report.triangles = uint32_t(mesh.triangles.size());
+  report.paper_size = uint64_t(report.vertices) * 20 + uint64_t(report.triangles) * 6 + 8;
+  report.compression_ratio = double(domain_pixels) / std::max<double>(1, report.vertices);
+  report.psnr = metrics.psnr;
+  report.mssim = metrics.mssim;
+  report.mean_error = metrics.mean_error;
+  report.feature_curves = uint32_t(curves.size());
+  result.image = std::move(mesh);
+  result.features = std::move(curves);
+  seconds.total = SecondsSince(all_start);
+  if (progress != nullptr) progress->Done();
+  return result;
+}
+
+Raster ErrorImage(const Raster& reconstruction, const Raster& reference) {
+  const int width = reference.width, height = reference.height;
+  Raster out(width, height, 3);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const bool in_reference = !reference.has_alpha() || reference.at(x, y, reference.channels - 1) > 0.5f;
+      const bool in_reconstruction =
+          x < reconstruction.width && y < reconstruction.height &&
+          (!reconstruction.has_alpha() || reconstruction.at(x, y, reconstruction.channels - 1) > 0.5f);
+      float value = 128.f;
+      if (in_reference && in_reconstruction) {
+        float sum = 0;
+        for (int c = 0; c < 3; ++c) {
+          const float ref = reference.channels <= 2 ? reference.at(x, y, 0) : reference.at(x, y, c);
+          const float rec = reconstruction.channels <= 2 ? reconstruction.at(x, y, 0)
+                                                         : reconstruction.at(x, y, c);
+          sum += std::abs(rec - ref);
+        }
+        value = std::min(255.f, 4.f * sum);
+      }
+      for (int c = 0; c < 3; ++c) out.at(x, y, c) = value;
+    }
+  }
+  return out;
+}
+
+}  // namespace sdvi
