@@ -15,6 +15,7 @@ namespace sdvi {
 StatusOr<Raster> LoadRaster(const std::string& path);
 
 // Writes a PNG (bits 8 or 16), atomically; colours clamped to 0..255 and rounded.
+// Grey+alpha rasters are written as RGBA with R = G = B (OpenCV has no grey+alpha PNG writer).
 Status SaveRasterPng(const std::string& path, const Raster& raster, int bits = 8);
 
 }  // namespace sdvi
