@@ -24,6 +24,13 @@ constexpr size_t kCrcOffsetInHeader = 24;
 // The smallest buffer the schema allows: root offset, identifier, a one-field vtable
 // (6 bytes + 2 padding), the root table (4-byte vtable offset + 28-byte header).
 constexpr size_t kSmallestFileBytes = 48;
+// Fuzzing builds accept a wrong checksum so that mutated inputs reach the structural and
+// semantic checks behind it (the usual libFuzzer convention).
+#ifdef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
+constexpr bool kRejectBadChecksum = false;
+#else
+constexpr bool kRejectBadChecksum = true;
+#endif
 // FlatBuffers addresses at most 2^31 - 1 bytes.
 constexpr uint64_t kMaxBufferBytes = (uint64_t{1} << 31) - 1;
 
@@ -82,8 +89,9 @@ class RawView {
   std::span<const uint8_t> bytes_;
 };
 
-// kTruncated when a list the root table points to runs past the end of the buffer.
-// The writer lays the largest lists out last, so a cut file fails here.
+// kTruncated when a list the root table points to starts inside the buffer but runs past
+// its end. Called only when the checksum fails; the writer lays the largest lists out
+// last, so a file cut short fails here.
 Status CheckExtent(const RawView& raw, size_t root, const std::string& source) {
   struct VectorField {
     int id;
@@ -98,7 +106,8 @@ Status CheckExtent(const RawView& raw, size_t root, const std::string& source) {
                           const char* name) -> Status {
     if (!field) return Status::Ok();
     auto target = raw.Deref(*field);
-    if (!target) return Status::Ok();  // unreadable offsets are the verifier's to report
+    // Unreadable or misaligned offsets are damage, not truncation: the verifier reports them.
+    if (!target || *target % 4 != 0) return Status::Ok();
     auto length = raw.U32(*target);
     if (!length) return Status::Ok();  // starts outside the file: corrupt, not truncated
     const uint64_t end = *target + 4 + uint64_t{*length} * element_bytes;
@@ -312,10 +321,15 @@ StatusOr<SdviFile> DecodeSdvi(std::span<const uint8_t> input, const std::string&
   // The version before anything else: root-table field 0 starts with major, minor.
   const size_t root = *raw.U32(0);
   auto header_pos = raw.FieldPos(root, kHeader);
-  if (!header_pos || *header_pos + kHeaderBytes > size)
+  if (!header_pos)
     return Status(StatusCode::kCorrupt,
                   source + ": cannot locate the header (root table at byte " +
                       std::to_string(root) + " of " + std::to_string(size) + ")");
+  if (*header_pos + kHeaderBytes > size)
+    return Status(StatusCode::kTruncated,
+                  source + ": the file ends inside the header (" + std::to_string(size) +
+                      " bytes, the header ends at byte " +
+                      std::to_string(*header_pos + kHeaderBytes) + ")");
   const uint16_t major = *raw.U16(*header_pos), minor = *raw.U16(*header_pos + 2);
   if (major != kSdviVersionMajor)
     return Status(StatusCode::kUnsupportedVersion,
@@ -324,7 +338,6 @@ StatusOr<SdviFile> DecodeSdvi(std::span<const uint8_t> input, const std::string&
                       std::to_string(kSdviVersionMajor) + ".x (writes " +
                       std::to_string(kSdviVersionMajor) + "." + std::to_string(kSdviVersionMinor) +
                       ")");
-  SDVI_RETURN_IF_ERROR(CheckExtent(raw, root, source));
 
   // CRC-32 over the whole file with the crc field as zero.
   const size_t crc_pos = *header_pos + kCrcOffsetInHeader;
@@ -333,7 +346,11 @@ StatusOr<SdviFile> DecodeSdvi(std::span<const uint8_t> input, const std::string&
   uint32_t crc = Crc32(bytes.subspan(0, crc_pos));
   crc = Crc32(kZero, crc);
   crc = Crc32(bytes.subspan(crc_pos + 4), crc);
-  if (crc != stored_crc)
+  if (crc != stored_crc) {
+    // A file cut short fails the checksum too: say which it is.
+    SDVI_RETURN_IF_ERROR(CheckExtent(raw, root, source));
+  }
+  if (crc != stored_crc && kRejectBadChecksum)
     return Status(StatusCode::kCorrupt, source + ": checksum mismatch: the header says " +
                                             Hex32(stored_crc) + ", the content gives " +
                                             Hex32(crc) + " (bytes were changed or damaged)");

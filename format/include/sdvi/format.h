@@ -67,9 +67,10 @@ struct SdviFile {
 };
 
 // Decodes a container from memory; source_name (usually the path) prefixes every message.
-// Checks, in order: size limits, identifier (kWrongIdentifier), major version
-// (kUnsupportedVersion), extent (kTruncated), CRC-32 and structure (kCorrupt), counts
-// (kCountMismatch), limits (kLimitExceeded), then ValidateImage.
+// Checks, in order: size limits (kLimitExceeded), identifier (kWrongIdentifier), major
+// version (kUnsupportedVersion), CRC-32 (kTruncated when a list runs past the end of the
+// file, else kCorrupt), FlatBuffers structure (kCorrupt), counts (kCountMismatch), limits
+// (kLimitExceeded), then ValidateImage.
 StatusOr<SdviFile> DecodeSdvi(std::span<const uint8_t> bytes, const std::string& source_name,
                               const ReadOptions& options = {});
 
