@@ -99,6 +99,26 @@ std::vector<Edge> CreaseEdgesFromGroups(const std::vector<Triangle>& triangles, 
   return edges;
 }
 
+bool SetsAreNormalized(const Image& image) {
+  for (size_t i = 0; i < image.crease_edges.size(); ++i) {
+    const Edge& e = image.crease_edges[i];
+    if (e.a >= e.b || (i > 0 && !(image.crease_edges[i - 1] < e))) return false;
+  }
+  for (size_t i = 1; i < image.corners.size(); ++i)
+    if (image.corners[i - 1] >= image.corners[i]) return false;
+  return true;
+}
+
+void NormalizeSets(Image& image) {
+  for (Edge& e : image.crease_edges) e = Edge::Of(e.a, e.b);
+  std::sort(image.crease_edges.begin(), image.crease_edges.end());
+  image.crease_edges.erase(std::unique(image.crease_edges.begin(), image.crease_edges.end()),
+                           image.crease_edges.end());
+  std::sort(image.corners.begin(), image.corners.end());
+  image.corners.erase(std::unique(image.corners.begin(), image.corners.end()),
+                      image.corners.end());
+}
+
 Status ValidateImageParts(const Image& image, const std::string& source, bool has_mesh) {
   if (image.width == 0 || image.height == 0)
     return Status(StatusCode::kEmptyInput, source + ": image size is " + std::to_string(image.width) +
@@ -127,11 +147,6 @@ Status ValidateImageParts(const Image& image, const std::string& source, bool ha
                         ") repeats a vertex");
   }
   if (!image.crease_edges.empty()) {
-    std::vector<Edge> mesh_edges;
-    mesh_edges.reserve(3 * image.triangles.size());
-    for (const Triangle& t : image.triangles)
-      for (int e = 0; e < 3; ++e) mesh_edges.push_back(Edge::Of(t.v[e], t.v[(e + 1) % 3]));
-    std::sort(mesh_edges.begin(), mesh_edges.end());
     for (size_t i = 0; i < image.crease_edges.size(); ++i) {
       const Edge& e = image.crease_edges[i];
       if (e.a >= nv || e.b >= nv)
@@ -145,10 +160,20 @@ Status ValidateImageParts(const Image& image, const std::string& source, bool ha
         return Status(StatusCode::kInvalidArgument,
                       source + ": crease edges must be sorted and unique; " + EdgeText(e) +
                           " follows " + EdgeText(image.crease_edges[i - 1]));
-      if (!std::binary_search(mesh_edges.begin(), mesh_edges.end(), e))
-        return Status(StatusCode::kCreaseNotAnEdge,
-                      source + ": crease edge " + EdgeText(e) + " is not an edge of any triangle");
     }
+    // Every crease edge must be an edge of some triangle: mark the ones triangles have.
+    std::vector<bool> seen(image.crease_edges.size(), false);
+    for (const Triangle& t : image.triangles)
+      for (int k = 0; k < 3; ++k) {
+        const Edge e = Edge::Of(t.v[k], t.v[(k + 1) % 3]);
+        auto it = std::lower_bound(image.crease_edges.begin(), image.crease_edges.end(), e);
+        if (it != image.crease_edges.end() && *it == e) seen[it - image.crease_edges.begin()] = true;
+      }
+    for (size_t i = 0; i < seen.size(); ++i)
+      if (!seen[i])
+        return Status(StatusCode::kCreaseNotAnEdge,
+                      source + ": crease edge " + EdgeText(image.crease_edges[i]) +
+                          " is not an edge of any triangle");
   }
   for (size_t i = 0; i < image.corners.size(); ++i) {
     const uint32_t c = image.corners[i];
@@ -197,12 +222,7 @@ Status ValidateImage(const Image& image, const std::string& source_name) {
 
 Image CanonicalizeImage(const Image& image) {
   Image out = image;
-  for (Edge& e : out.crease_edges) e = Edge::Of(e.a, e.b);
-  std::sort(out.crease_edges.begin(), out.crease_edges.end());
-  out.crease_edges.erase(std::unique(out.crease_edges.begin(), out.crease_edges.end()),
-                         out.crease_edges.end());
-  std::sort(out.corners.begin(), out.corners.end());
-  out.corners.erase(std::unique(out.corners.begin(), out.corners.end()), out.corners.end());
+  format_internal::NormalizeSets(out);
   out.triangles = format_internal::CanonicalizeTriangles(image.triangles, out.crease_edges).triangles;
   return out;
 }

@@ -214,7 +214,13 @@ uint64_t EstimateOptionalBytes(const Image& image) {
 }  // namespace
 
 StatusOr<std::vector<uint8_t>> EncodeSdvi(const Image& input) {
-  Image image = CanonicalizeImage(input);
+  // Crease edges and corners are sets: normalise a copy only when the caller's are not.
+  std::optional<Image> normalized;
+  if (!format_internal::SetsAreNormalized(input)) {
+    normalized = input;
+    format_internal::NormalizeSets(*normalized);
+  }
+  const Image& image = normalized ? *normalized : input;
   SDVI_RETURN_IF_ERROR(ValidateImage(image, "encoding .sdvi"));
   const uint64_t nv = image.vertices.size(), nt = image.triangles.size();
   const bool wide = nv > kNarrowProfileMaxVertices;
@@ -321,7 +327,7 @@ StatusOr<SdviFile> DecodeSdvi(std::span<const uint8_t> input, const std::string&
   // The version before anything else: root-table field 0 starts with major, minor.
   const size_t root = *raw.U32(0);
   auto header_pos = raw.FieldPos(root, kHeader);
-  if (!header_pos)
+  if (!header_pos || *header_pos >= size)
     return Status(StatusCode::kCorrupt,
                   source + ": cannot locate the header (root table at byte " +
                       std::to_string(root) + " of " + std::to_string(size) + ")");

@@ -28,6 +28,12 @@ CanonicalTriangles CanonicalizeTriangles(const std::vector<Triangle>& triangles,
 std::vector<Edge> CreaseEdgesFromGroups(const std::vector<Triangle>& triangles, uint32_t tagged3,
                                         uint32_t tagged2, uint32_t tagged1);
 
+// True when crease_edges hold (a < b) edges sorted and unique, and corners are sorted
+// and unique.
+bool SetsAreNormalized(const Image& image);
+// Makes crease_edges and corners so (Edge::Of, sort, unique).
+void NormalizeSets(Image& image);
+
 // ValidateImage; with has_mesh false (a compressed payload holds the mesh) the feature
 // layer's vertex indices are not checked against the (absent) vertices.
 Status ValidateImageParts(const Image& image, const std::string& source, bool has_mesh);
