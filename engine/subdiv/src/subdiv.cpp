@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <thread>
 
+#include "large_buffers.h"
 #include "sdvi/tagged_mesh.h"
 
 namespace sdvi {
@@ -80,7 +82,8 @@ StatusOr<RefinementPlan> MakePlan(const Image& image, const LimitSurfaceOptions&
 }
 
 // The output part of the finest level: kept triangles (renumbered), their parents, and the
-// kept fine vertices (sorted finest-level indices).
+// kept fine vertices (sorted finest-level indices). The finest level is mesh itself, or
+// with refine_once the level after mesh, derived without building its topology.
 struct FineSelection {
   std::vector<Triangle> triangles;
   std::vector<uint32_t> parent_triangle;
@@ -89,102 +92,217 @@ struct FineSelection {
   std::vector<Edge> crease_edges;
 };
 
-FineSelection SelectOutput(const RefinementPlan& plan, const TaggedMesh& fine, int levels) {
+FineSelection SelectOutput(const RefinementPlan& plan, const TaggedMesh& mesh, bool refine_once, int levels) {
   FineSelection out;
-  const size_t nt = fine.num_triangles();
+  std::vector<Triangle> triangles = refine_once ? mesh.RefinedTriangles() : mesh.triangles();
+  std::vector<VertexTag> tags = refine_once ? mesh.RefinedVertexTags() : mesh.vertex_tags();
+  const size_t nt = triangles.size();
   const int shift = 2 * levels;
   auto parent = [&](size_t f) {
     const size_t base = f >> shift;
     return plan.triangle_map.empty() ? static_cast<uint32_t>(base) : plan.triangle_map[base];
   };
+  internal::ReserveLarge(out.parent_triangle, nt);
+  out.parent_triangle.resize(nt);
+  for (size_t f = 0; f < nt; ++f) out.parent_triangle[f] = parent(f);
   if (plan.keep.empty()) {
-    out.triangles = fine.triangles();
-    out.parent_triangle.resize(nt);
-    for (size_t f = 0; f < nt; ++f) out.parent_triangle[f] = parent(f);
-    out.vertices.resize(fine.num_vertices());
-    for (uint32_t v = 0; v < fine.num_vertices(); ++v) out.vertices[v] = v;
-    out.vertex_tags = fine.vertex_tags();
-    out.crease_edges = fine.CreaseEdges();
+    out.triangles = std::move(triangles);
+    out.vertices.resize(tags.size());
+    for (uint32_t v = 0; v < tags.size(); ++v) out.vertices[v] = v;
+    out.vertex_tags = std::move(tags);
+    out.crease_edges = refine_once ? mesh.RefinedCreaseEdges() : mesh.CreaseEdges();
     return out;
   }
-  std::vector<uint32_t> renumber(fine.num_vertices(), kNoIndex);
-  std::vector<uint8_t> edge_kept(fine.num_edges(), 0);
-  for (size_t f = 0; f < nt; ++f) {
-    if (!plan.keep[f >> shift]) continue;
-    for (uint32_t v : fine.triangles()[f].v) renumber[v] = 0;
-    for (uint32_t e : fine.triangle_edges(f)) edge_kept[e] = 1;
-  }
-  for (uint32_t v = 0; v < fine.num_vertices(); ++v)
+  // A region: keep the triangles descending from it, the vertices they use, and the crease
+  // edges of kept triangles. A crease edge of mesh (or its halves) belongs to a kept
+  // triangle iff one of its triangles in mesh is kept.
+  const int mesh_shift = refine_once ? shift - 2 : shift;
+  auto kept_in_mesh = [&](uint32_t t) { return t != kNoIndex && plan.keep[t >> mesh_shift]; };
+  std::vector<uint32_t> renumber(tags.size(), kNoIndex);
+  for (size_t f = 0; f < nt; ++f)
+    if (plan.keep[f >> shift])
+      for (uint32_t v : triangles[f].v) renumber[v] = 0;
+  for (uint32_t v = 0; v < tags.size(); ++v)
     if (renumber[v] == 0) {
       renumber[v] = static_cast<uint32_t>(out.vertices.size());
       out.vertices.push_back(v);
-      out.vertex_tags.push_back(fine.tag(v));
+      out.vertex_tags.push_back(tags[v]);
     }
+  std::vector<uint32_t> parents;
   for (size_t f = 0; f < nt; ++f) {
     if (!plan.keep[f >> shift]) continue;
-    const auto& v = fine.triangles()[f].v;
+    const auto& v = triangles[f].v;
     out.triangles.push_back(Triangle{{renumber[v[0]], renumber[v[1]], renumber[v[2]]}});
-    out.parent_triangle.push_back(parent(f));
+    parents.push_back(out.parent_triangle[f]);
   }
-  for (size_t e = 0; e < fine.num_edges(); ++e)
-    if (edge_kept[e] && fine.is_crease(e))
-      out.crease_edges.push_back(Edge::Of(renumber[fine.edges()[e].a], renumber[fine.edges()[e].b]));
+  out.parent_triangle = std::move(parents);
+  for (size_t e = 0; e < mesh.num_edges(); ++e) {
+    const auto& et = mesh.edge_triangles(e);
+    if (!mesh.is_crease(e) || !(kept_in_mesh(et[0]) || kept_in_mesh(et[1]))) continue;
+    const Edge& edge = mesh.edges()[e];
+    if (refine_once) {
+      const uint32_t m = renumber[mesh.num_vertices() + e];
+      out.crease_edges.push_back(Edge::Of(renumber[edge.a], m));
+      out.crease_edges.push_back(Edge::Of(renumber[edge.b], m));
+    } else {
+      out.crease_edges.push_back(Edge::Of(renumber[edge.a], renumber[edge.b]));
+    }
+  }
   std::sort(out.crease_edges.begin(), out.crease_edges.end());
   return out;
 }
 
-// Rows of (mask x previous), or of mask alone when previous is null (level 0: identity).
-// Computes the rows listed in row_list (all rows when null), each sorted by index, with
-// indices mapped through index_map when it is non-empty.
-template <typename Weight>
-void Compose(const SparseRows& mask, const SparseRows* previous, const std::vector<uint32_t>* row_list,
-             uint32_t num_columns, const std::vector<uint32_t>& index_map,
-             std::vector<uint32_t>& offsets, std::vector<uint32_t>& indices, std::vector<Weight>& weights) {
-  const size_t num_rows = row_list ? row_list->size() : mask.rows();
-  std::vector<double> accumulator(num_columns, 0.0);
-  std::vector<uint32_t> stamp(num_columns, kNoIndex);
+// Scratch of one composing thread: a dense accumulator over the columns, and a row buffer
+// for mask rows computed on the fly.
+struct ComposeScratch {
+  std::vector<double> accumulator;
+  std::vector<uint32_t> stamp;
   std::vector<uint32_t> touched;
-  offsets.assign(1, 0);
-  offsets.reserve(num_rows + 1);
-  indices.clear();
-  weights.clear();
-  const size_t estimate = num_rows * (previous ? 16 : 5);
-  indices.reserve(estimate);
-  weights.reserve(estimate);
-  for (size_t r = 0; r < num_rows; ++r) {
-    const uint32_t row = row_list ? (*row_list)[r] : static_cast<uint32_t>(r);
-    touched.clear();
-    for (uint32_t k = mask.offsets[row]; k < mask.offsets[row + 1]; ++k) {
-      const uint32_t p = mask.indices[k];
-      const double w = mask.weights[k];
+  std::vector<uint32_t> row_indices;
+  std::vector<double> row_weights;
+  // Merges repeated indices of the row buffer (indices < num_rows_columns).
+  std::vector<double> row_accumulator;
+  std::vector<uint32_t> row_stamp;
+  void MergeRow(size_t num_row_columns, uint32_t stamp_value) {
+    if (row_stamp.size() < num_row_columns) {
+      row_stamp.assign(num_row_columns, kNoIndex);
+      row_accumulator.assign(num_row_columns, 0.0);
+    }
+    size_t n = 0;
+    for (size_t k = 0; k < row_indices.size(); ++k) {
+      const uint32_t i = row_indices[k];
+      if (row_stamp[i] != stamp_value) {
+        row_stamp[i] = stamp_value;
+        row_accumulator[i] = 0;
+        row_indices[n++] = i;
+      }
+      row_accumulator[i] += row_weights[k];
+    }
+    row_indices.resize(n);
+    row_weights.resize(n);
+    for (size_t k = 0; k < n; ++k) row_weights[k] = row_accumulator[row_indices[k]];
+  }
+};
+
+template <typename Weight>
+struct RowBlock {
+  size_t estimate = 0;  // entries to reserve
+  std::vector<uint32_t> sizes;
+  std::vector<uint32_t> indices;
+  std::vector<Weight> weights;
+};
+
+// Output rows [begin, end) of (mask x previous), or of the mask alone when previous is
+// null (identity): mask_row(r, scratch) fills scratch.row_indices/row_weights with row r of
+// the mask (indices may repeat). Each output row is sorted by index; indices are mapped
+// through index_map when it is non-empty.
+template <typename Weight, typename MaskRow>
+void ComposeBlock(size_t begin, size_t end, const MaskRow& mask_row, const SparseRows* previous,
+                  const std::vector<uint32_t>& index_map, ComposeScratch& s, RowBlock<Weight>& out) {
+  out.sizes.reserve(end - begin);
+  internal::ReserveLarge(out.indices, out.estimate);
+  internal::ReserveLarge(out.weights, out.estimate);
+  for (size_t r = begin; r < end; ++r) {
+    const uint32_t row_stamp = static_cast<uint32_t>(r);
+    s.touched.clear();
+    s.row_indices.clear();
+    s.row_weights.clear();
+    mask_row(r, s);
+    auto accumulate = [&](uint32_t c, double w) {
+      if (s.stamp[c] != row_stamp) {
+        s.stamp[c] = row_stamp;
+        s.accumulator[c] = 0;
+        s.touched.push_back(c);
+      }
+      s.accumulator[c] += w;
+    };
+    for (size_t k = 0; k < s.row_indices.size(); ++k) {
+      const uint32_t p = s.row_indices[k];
+      const double w = s.row_weights[k];
       if (!previous) {
-        if (stamp[p] != r) {
-          stamp[p] = static_cast<uint32_t>(r);
-          accumulator[p] = 0;
-          touched.push_back(p);
-        }
-        accumulator[p] += w;
+        accumulate(p, w);
         continue;
       }
-      for (uint32_t j = previous->offsets[p]; j < previous->offsets[p + 1]; ++j) {
-        const uint32_t c = previous->indices[j];
-        if (stamp[c] != r) {
-          stamp[c] = static_cast<uint32_t>(r);
-          accumulator[c] = 0;
-          touched.push_back(c);
-        }
-        accumulator[c] += w * previous->weights[j];
-      }
+      for (uint32_t j = previous->offsets[p]; j < previous->offsets[p + 1]; ++j)
+        accumulate(previous->indices[j], w * previous->weights[j]);
     }
-    std::sort(touched.begin(), touched.end());
-    for (uint32_t c : touched) {
-      if (accumulator[c] == 0) continue;
-      indices.push_back(index_map.empty() ? c : index_map[c]);
-      weights.push_back(static_cast<Weight>(accumulator[c]));
+    std::sort(s.touched.begin(), s.touched.end());
+    uint32_t size = 0;
+    for (uint32_t c : s.touched) {
+      if (s.accumulator[c] == 0) continue;
+      out.indices.push_back(index_map.empty() ? c : index_map[c]);
+      out.weights.push_back(static_cast<Weight>(s.accumulator[c]));
+      ++size;
     }
-    offsets.push_back(static_cast<uint32_t>(indices.size()));
+    out.sizes.push_back(size);
   }
 }
+
+// Threads for a composition of num_rows rows (one for small ones).
+unsigned ThreadsFor(size_t num_rows) {
+  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
+  return static_cast<unsigned>(std::clamp<size_t>(num_rows / 16384, 1, std::min(hw, 8u)));
+}
+
+// All rows of (mask x previous) into CSR arrays, in parallel blocks; deterministic
+// whatever the number of threads.
+template <typename Weight, typename MaskRow>
+void Compose(size_t num_rows, const MaskRow& mask_row, const SparseRows* previous, uint32_t num_columns,
+             const std::vector<uint32_t>& index_map, std::vector<uint32_t>& offsets,
+             std::vector<uint32_t>& indices, std::vector<Weight>& weights) {
+  const unsigned threads = ThreadsFor(num_rows);
+  std::vector<RowBlock<Weight>> blocks(threads);
+  // Block 0 reserves room for every block's entries, so that the others are appended to it
+  // without a new allocation (untouched reserved pages cost nothing).
+  const size_t per_row = previous ? 14 : 7;
+  for (unsigned i = 0; i < threads; ++i) blocks[i].estimate = per_row * (num_rows * (i + 1) / threads - num_rows * i / threads);
+  blocks[0].estimate = per_row * num_rows;
+  auto run = [&](unsigned i) {
+    ComposeScratch scratch;
+    scratch.accumulator.assign(num_columns, 0.0);
+    scratch.stamp.assign(num_columns, kNoIndex);
+    ComposeBlock(num_rows * i / threads, num_rows * (i + 1) / threads, mask_row, previous, index_map, scratch,
+                 blocks[i]);
+  };
+  if (threads == 1) {
+    run(0);
+  } else {
+    std::vector<std::thread> pool;
+    for (unsigned i = 1; i < threads; ++i) pool.emplace_back(run, i);
+    run(0);
+    for (std::thread& t : pool) t.join();
+  }
+  indices = std::move(blocks[0].indices);
+  weights = std::move(blocks[0].weights);
+  for (unsigned i = 1; i < threads; ++i) {
+    indices.insert(indices.end(), blocks[i].indices.begin(), blocks[i].indices.end());
+    weights.insert(weights.end(), blocks[i].weights.begin(), blocks[i].weights.end());
+    blocks[i].indices = {};
+    blocks[i].weights = {};
+  }
+  internal::ReserveLarge(offsets, num_rows + 1);
+  offsets.resize(num_rows + 1);
+  offsets[0] = 0;
+  size_t r = 0;
+  for (const auto& b : blocks)
+    for (uint32_t size : b.sizes) {
+      offsets[r + 1] = offsets[r] + size;
+      ++r;
+    }
+}
+
+// A mask row from precomputed rows (row_list maps output rows to mask rows when non-null).
+struct RowsOf {
+  const SparseRows& rows;
+  const std::vector<uint32_t>* row_list = nullptr;
+  void operator()(size_t r, ComposeScratch& s) const {
+    const size_t row = row_list ? (*row_list)[r] : r;
+    for (uint32_t k = rows.offsets[row]; k < rows.offsets[row + 1]; ++k) {
+      s.row_indices.push_back(rows.indices[k]);
+      s.row_weights.push_back(rows.weights[k]);
+    }
+  }
+};
 
 }  // namespace
 
@@ -211,42 +329,65 @@ StatusOr<LimitSurface> BuildLimitSurface(const Image& image, const LimitSurfaceO
   const uint32_t num_base = plan.base.num_vertices();
   TaggedMesh mesh = std::move(plan.base);
   plan.base = TaggedMesh();
-  SparseRows stencils;  // level-k vertices over base vertices
-  bool identity = true;
-  // Levels 1 .. r-1 (and r when the last step is the limit) are full intermediate rows.
-  const int full_steps = options.to_limit ? options.levels : options.levels - 1;
-  for (int k = 0; k < full_steps; ++k) {
+  // stencils: level-k vertices over base vertices (identity while k = 0).
+  SparseRows stencils;
+  const SparseRows* previous = nullptr;
+  for (int k = 0; k + 1 < options.levels; ++k) {
     SparseRows next;
-    Compose(RefinementMasks(mesh), identity ? nullptr : &stencils, nullptr, num_base, {}, next.offsets,
-            next.indices, next.weights);
+    const SparseRows masks = RefinementMasks(mesh);
+    Compose(masks.rows(), RowsOf{masks}, previous, num_base, {}, next.offsets, next.indices, next.weights);
     stencils = std::move(next);
-    identity = false;
+    previous = &stencils;
     mesh = mesh.Refine();
   }
-  // The last step computes only the output rows, in float, over control vertices.
-  SparseRows last_masks;
-  TaggedMesh fine;
-  if (options.to_limit) {
-    last_masks = LimitMasks(mesh);
-    fine = std::move(mesh);
-  } else if (options.levels > 0) {
-    last_masks = RefinementMasks(mesh);
-    fine = mesh.Refine();
-  } else {
-    last_masks.offsets.resize(size_t{num_base} + 1);
-    for (uint32_t v = 0; v < num_base; ++v) {
-      last_masks.indices.push_back(v);
-      last_masks.weights.push_back(1.0);
-      last_masks.offsets[v + 1] = v + 1;
-    }
-    fine = std::move(mesh);
-  }
-  FineSelection selection = SelectOutput(plan, fine, options.levels);
+  // The last step: from level r-1 (mesh) to level r, or the limit at level r, computed
+  // only for the output vertices, in float, over control vertices. The level-r topology is
+  // never built: a vertex child's limit is its parent's (limit invariance), an edge
+  // child's comes from AppendEdgeChildLimitMask.
+  const bool refine_once = options.levels > 0;
+  FineSelection selection = SelectOutput(plan, mesh, refine_once, options.levels);
   LimitSurface surface;
   surface.levels = options.levels;
   surface.stencils.num_control = static_cast<uint32_t>(image.vertices.size());
-  Compose(last_masks, identity ? nullptr : &stencils, &selection.vertices, num_base, plan.vertex_map,
-          surface.stencils.offsets, surface.stencils.indices, surface.stencils.weights);
+  StencilTable& table = surface.stencils;
+  const size_t num_rows = selection.vertices.size();
+  if (!refine_once && !options.to_limit) {
+    SparseRows identity;
+    identity.offsets.resize(size_t{num_base} + 1);
+    for (uint32_t v = 0; v < num_base; ++v) {
+      identity.indices.push_back(v);
+      identity.weights.push_back(1.0);
+      identity.offsets[v + 1] = v + 1;
+    }
+    Compose(num_rows, RowsOf{identity, &selection.vertices}, nullptr, num_base, plan.vertex_map, table.offsets,
+            table.indices, table.weights);
+  } else if (!refine_once) {
+    const SparseRows limit = LimitMasks(mesh);
+    Compose(num_rows, RowsOf{limit, &selection.vertices}, nullptr, num_base, plan.vertex_map, table.offsets,
+            table.indices, table.weights);
+  } else if (!options.to_limit) {
+    const SparseRows masks = RefinementMasks(mesh);
+    Compose(num_rows, RowsOf{masks, &selection.vertices}, previous, num_base, plan.vertex_map, table.offsets,
+            table.indices, table.weights);
+  } else {
+    const SparseRows masks = RefinementMasks(mesh);
+    const SparseRows limit = LimitMasks(mesh);
+    const uint32_t nv = mesh.num_vertices();
+    auto limit_row = [&](size_t r, ComposeScratch& s) {
+      const uint32_t v = selection.vertices[r];
+      if (v < nv) {
+        for (uint32_t k = limit.offsets[v]; k < limit.offsets[v + 1]; ++k) {
+          s.row_indices.push_back(limit.indices[k]);
+          s.row_weights.push_back(limit.weights[k]);
+        }
+      } else {
+        AppendEdgeChildLimitMask(mesh, masks, v - nv, s.row_indices, s.row_weights);
+        s.MergeRow(nv, static_cast<uint32_t>(r));
+      }
+    };
+    Compose(num_rows, limit_row, previous, num_base, plan.vertex_map, table.offsets, table.indices,
+            table.weights);
+  }
   surface.triangles = std::move(selection.triangles);
   surface.parent_triangle = std::move(selection.parent_triangle);
   surface.vertex_tags = std::move(selection.vertex_tags);
@@ -256,7 +397,9 @@ StatusOr<LimitSurface> BuildLimitSurface(const Image& image, const LimitSurfaceO
 
 std::vector<Vertex> EvaluateSurface(const LimitSurface& surface, const std::vector<Vertex>& control) {
   if (control.size() < surface.stencils.num_control) return {};
-  std::vector<Vertex> fine(surface.stencils.rows());
+  std::vector<Vertex> fine;
+  internal::ReserveLarge(fine, surface.stencils.rows());
+  fine.resize(surface.stencils.rows());
   static_assert(sizeof(Vertex) == 5 * sizeof(float));
   surface.stencils.Apply(reinterpret_cast<const float*>(control.data()), 5,
                          reinterpret_cast<float*>(fine.data()), 5, 5);
@@ -286,7 +429,7 @@ StatusOr<RefinedMesh> RefineImage(const Image& image, const LimitSurfaceOptions&
     mesh = mesh.Refine();
   }
   if (options.to_limit) apply(LimitMasks(mesh));
-  FineSelection selection = SelectOutput(plan, mesh, options.levels);
+  FineSelection selection = SelectOutput(plan, mesh, false, options.levels);
   RefinedMesh out;
   out.levels = options.levels;
   out.vertices.resize(selection.vertices.size());

@@ -4,6 +4,7 @@
 #include <string>
 #include <utility>
 
+#include "large_buffers.h"
 #include "sdvi/subdiv_rules.h"
 
 namespace sdvi {
@@ -185,6 +186,8 @@ void TaggedMesh::BuildNeighbours() {
     ++neighbour_offsets_[e.b + 1];
   }
   for (uint32_t v = 0; v < num_vertices_; ++v) neighbour_offsets_[v + 1] += neighbour_offsets_[v];
+  internal::ReserveLarge(neighbour_vertices_, 2 * edges_.size());
+  internal::ReserveLarge(neighbour_edges_, 2 * edges_.size());
   neighbour_vertices_.resize(2 * edges_.size());
   neighbour_edges_.resize(2 * edges_.size());
   std::vector<uint32_t> fill(neighbour_offsets_.begin(), neighbour_offsets_.end() - 1);
@@ -252,8 +255,10 @@ TaggedMesh TaggedMesh::Refine() const {
   const size_t ne = edges_.size(), nt = triangles_.size();
   TaggedMesh child;
   child.num_vertices_ = static_cast<uint32_t>(nv + ne);
-  child.triangles_.resize(4 * nt);
+  child.triangles_ = RefinedTriangles();
+  internal::ReserveLarge(child.triangle_edges_, 4 * nt);
   child.triangle_edges_.resize(4 * nt);
+  internal::ReserveLarge(child.edges_, 2 * ne + 3 * nt);
   child.edges_.resize(2 * ne + 3 * nt);
   child.edge_crease_.assign(2 * ne + 3 * nt, 0);
   for (size_t e = 0; e < ne; ++e) {
@@ -272,15 +277,12 @@ TaggedMesh TaggedMesh::Refine() const {
     child.edges_[i0] = Edge::Of(m0, m1);
     child.edges_[i0 + 1] = Edge::Of(m1, m2);
     child.edges_[i0 + 2] = Edge::Of(m2, m0);
-    child.triangles_[4 * t] = Triangle{{a, m0, m2}};
     child.triangle_edges_[4 * t] = {half(e0, a), i0 + 2, half(e2, a)};
-    child.triangles_[4 * t + 1] = Triangle{{m0, b, m1}};
     child.triangle_edges_[4 * t + 1] = {half(e0, b), half(e1, b), i0};
-    child.triangles_[4 * t + 2] = Triangle{{m2, m1, c}};
     child.triangle_edges_[4 * t + 2] = {i0 + 1, half(e1, c), half(e2, c)};
-    child.triangles_[4 * t + 3] = Triangle{{m0, m1, m2}};
     child.triangle_edges_[4 * t + 3] = {i0, i0 + 1, i0 + 2};
   }
+  internal::ReserveLarge(child.edge_triangles_, child.edges_.size());
   child.edge_triangles_.assign(child.edges_.size(), {kNoIndex, kNoIndex});
   for (uint32_t f = 0; f < child.triangles_.size(); ++f)
     for (uint32_t e : child.triangle_edges_[f]) {
@@ -288,11 +290,45 @@ TaggedMesh TaggedMesh::Refine() const {
       (slot[0] == kNoIndex ? slot[0] : slot[1]) = f;
     }
   child.BuildNeighbours();
-  child.vertex_tags_.resize(child.num_vertices_);
-  std::copy(vertex_tags_.begin(), vertex_tags_.end(), child.vertex_tags_.begin());
-  for (size_t e = 0; e < ne; ++e)
-    child.vertex_tags_[nv + e] = edge_crease_[e] ? VertexTag::kCrease : VertexTag::kSmooth;
+  child.vertex_tags_ = RefinedVertexTags();
   return child;
+}
+
+std::vector<Triangle> TaggedMesh::RefinedTriangles() const {
+  const uint32_t nv = num_vertices_;
+  std::vector<Triangle> out;
+  internal::ReserveLarge(out, 4 * triangles_.size());
+  out.resize(4 * triangles_.size());
+  for (size_t t = 0; t < triangles_.size(); ++t) {
+    const auto [a, b, c] = triangles_[t].v;
+    const auto [e0, e1, e2] = triangle_edges_[t];
+    const uint32_t m0 = nv + e0, m1 = nv + e1, m2 = nv + e2;
+    out[4 * t] = Triangle{{a, m0, m2}};
+    out[4 * t + 1] = Triangle{{m0, b, m1}};
+    out[4 * t + 2] = Triangle{{m2, m1, c}};
+    out[4 * t + 3] = Triangle{{m0, m1, m2}};
+  }
+  return out;
+}
+
+std::vector<VertexTag> TaggedMesh::RefinedVertexTags() const {
+  std::vector<VertexTag> out(size_t{num_vertices_} + edges_.size());
+  std::copy(vertex_tags_.begin(), vertex_tags_.end(), out.begin());
+  for (size_t e = 0; e < edges_.size(); ++e)
+    out[num_vertices_ + e] = edge_crease_[e] ? VertexTag::kCrease : VertexTag::kSmooth;
+  return out;
+}
+
+std::vector<Edge> TaggedMesh::RefinedCreaseEdges() const {
+  std::vector<Edge> out;
+  for (size_t e = 0; e < edges_.size(); ++e)
+    if (edge_crease_[e]) {
+      const uint32_t m = num_vertices_ + static_cast<uint32_t>(e);
+      out.push_back(Edge{edges_[e].a, m});
+      out.push_back(Edge{edges_[e].b, m});
+    }
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 std::vector<Edge> TaggedMesh::CreaseEdges() const {
@@ -305,10 +341,12 @@ std::vector<Edge> TaggedMesh::CreaseEdges() const {
 
 SparseRows RefinementMasks(const TaggedMesh& mesh) {
   SparseRows rows;
+  // Vertex rows hold at most 1 + valence entries, edge rows at most 4.
   const size_t n = mesh.num_vertices() + mesh.num_edges();
-  rows.offsets.reserve(n + 1);
-  rows.indices.reserve(4 * n);
-  rows.weights.reserve(4 * n);
+  const size_t entries = mesh.num_vertices() + 6 * mesh.num_edges();
+  internal::ReserveLarge(rows.offsets, n + 1);
+  internal::ReserveLarge(rows.indices, entries);
+  internal::ReserveLarge(rows.weights, entries);
   VertexMasks(mesh, rows, rules::SmoothVertexRule, rules::CreaseVertexRule);
   for (size_t e = 0; e < mesh.num_edges(); ++e) {
     const Edge& edge = mesh.edges()[e];
@@ -334,11 +372,51 @@ SparseRows RefinementMasks(const TaggedMesh& mesh) {
 
 SparseRows LimitMasks(const TaggedMesh& mesh) {
   SparseRows rows;
-  rows.offsets.reserve(size_t{mesh.num_vertices()} + 1);
-  rows.indices.reserve(7 * size_t{mesh.num_vertices()});
-  rows.weights.reserve(7 * size_t{mesh.num_vertices()});
+  const size_t entries = mesh.num_vertices() + 2 * mesh.num_edges();
+  internal::ReserveLarge(rows.offsets, size_t{mesh.num_vertices()} + 1);
+  internal::ReserveLarge(rows.indices, entries);
+  internal::ReserveLarge(rows.weights, entries);
   VertexMasks(mesh, rows, rules::SmoothLimitRule, rules::CreaseLimitRule);
   return rows;
+}
+
+void AppendEdgeChildLimitMask(const TaggedMesh& mesh, const SparseRows& refinement, uint32_t e,
+                              std::vector<uint32_t>& indices, std::vector<double>& weights) {
+  const uint32_t nv = mesh.num_vertices();
+  auto add = [&](uint32_t child, double lambda) {
+    if (lambda == 0) return;
+    for (uint32_t k = refinement.offsets[child]; k < refinement.offsets[child + 1]; ++k) {
+      indices.push_back(refinement.indices[k]);
+      weights.push_back(lambda * refinement.weights[k]);
+    }
+  };
+  const Edge& edge = mesh.edges()[e];
+  if (mesh.is_crease(e)) {
+    // The child is a crease vertex whose crease neighbours are the children of a and b.
+    const rules::CreaseVertexMask m = rules::CreaseLimitRule(mesh.is_corner(edge.a), mesh.is_corner(edge.b));
+    add(edge.a, m.c0);
+    add(nv + e, m.self);
+    add(edge.b, m.c1);
+    return;
+  }
+  // A smooth child: its ring is the children of a and b and of the other edges of the
+  // triangles of e (valence 6 inside the mesh).
+  uint32_t ring[6];
+  int n = 0;
+  ring[n++] = edge.a;
+  ring[n++] = edge.b;
+  for (uint32_t t : mesh.edge_triangles(e)) {
+    if (t == kNoIndex) continue;
+    for (uint32_t other : mesh.triangle_edges(t))
+      if (other != e) ring[n++] = nv + other;
+  }
+  if (n < 3) {  // only at a sub-mesh cut, where values are unused
+    add(nv + e, 1.0);
+    return;
+  }
+  const rules::SmoothVertexMask m = rules::SmoothLimitRule(n);
+  add(nv + e, m.self);
+  for (int i = 0; i < n; ++i) add(ring[i], m.neighbour);
 }
 
 }  // namespace sdvi

@@ -53,6 +53,11 @@ class TaggedMesh {
 
   // The next level's topology (numbering in the header comment).
   TaggedMesh Refine() const;
+  // Parts of Refine() for callers that need only these: the next level's triangles,
+  // vertex tags and sorted crease edges.
+  std::vector<Triangle> RefinedTriangles() const;
+  std::vector<VertexTag> RefinedVertexTags() const;
+  std::vector<Edge> RefinedCreaseEdges() const;
 
   uint32_t num_vertices() const { return num_vertices_; }
   size_t num_triangles() const { return triangles_.size(); }
@@ -112,5 +117,13 @@ struct SparseRows {
 SparseRows RefinementMasks(const TaggedMesh& mesh);
 // Row v is the limit position of vertex v of mesh as a combination of mesh's vertices.
 SparseRows LimitMasks(const TaggedMesh& mesh);
+
+// The limit position of the child of edge e (vertex num_vertices + e of mesh.Refine()) as
+// a combination of mesh's vertices, without building the next level: the limit mask of
+// the child's one-ring there, each ring vertex taken through its refinement row
+// (refinement = RefinementMasks(mesh)). Entries are appended to (indices, weights) and may
+// repeat an index. (A vertex child's limit is the limit of its parent: LimitMasks(mesh).)
+void AppendEdgeChildLimitMask(const TaggedMesh& mesh, const SparseRows& refinement, uint32_t e,
+                              std::vector<uint32_t>& indices, std::vector<double>& weights);
 
 }  // namespace sdvi

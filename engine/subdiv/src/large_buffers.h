@@ -1,0 +1,37 @@
+// Large scratch and output arrays: reserving them with a hint to the kernel to back them
+// with transparent huge pages. On virtual machines a 4 KiB page fault can cost tens of
+// microseconds, which made first-touch faults most of the cost of building a stencil
+// table; 2 MiB pages cut their number by 512. Only a hint: behaviour is unchanged where
+// the kernel ignores it.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+
+namespace sdvi::internal {
+
+// Advises huge pages for the 2 MiB-aligned part of [data, data + bytes).
+inline void AdviseHugePages([[maybe_unused]] const void* data, [[maybe_unused]] size_t bytes) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  constexpr uintptr_t kHuge = uintptr_t{2} << 20;
+  const uintptr_t begin = (reinterpret_cast<uintptr_t>(data) + kHuge - 1) & ~(kHuge - 1);
+  const uintptr_t end = (reinterpret_cast<uintptr_t>(data) + bytes) & ~(kHuge - 1);
+  if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+#endif
+}
+
+// v.reserve(n), with the huge-page hint when the new storage is large and untouched.
+template <typename T, typename A>
+void ReserveLarge(std::vector<T, A>& v, size_t n) {
+  if (n <= v.capacity()) return;
+  const bool fresh = v.empty();
+  v.reserve(n);
+  if (fresh && n * sizeof(T) >= (size_t{8} << 20)) AdviseHugePages(v.data(), n * sizeof(T));
+}
+
+}  // namespace sdvi::internal
