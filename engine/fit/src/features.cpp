@@ -7,6 +7,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 #include <string>
+#include <unordered_map>
 
 #include "contours.h"
 #include "sdvi/bspline.h"
@@ -321,6 +322,124 @@ std::vector<Chain> LinkChains(const cv::Mat& edge) {
   return chains;
 }
 
+// Good continuation through junctions: at each junction (a cluster of 8-adjacent pixels
+// with >= 3 neighbours) the two chain ends that continue each other best (directions
+// over the last kJoinReach pixels at least kJoinAngleDeg apart) are joined, repeatedly,
+// so that a curve crossed or touched by another stays one chain.
+std::vector<Chain> JoinAtJunctions(std::vector<Chain> chains, const cv::Mat& edge) {
+  constexpr int kJoinReach = 6;
+  constexpr double kJoinCos = -0.8;  // ~143 degrees between the two inward directions
+  const int w = edge.cols, h = edge.rows;
+  auto junction = [&](int p) {
+    int x = p % w, y = p / w;
+    return __builtin_popcount(NeighbourBits(edge, x, y)) >= 3;
+  };
+  // Junction clusters.
+  std::unordered_map<int, int> cluster;
+  int clusters = 0;
+  for (const Chain& c : chains) {
+    if (c.closed) continue;
+    for (int end : {c.pixels.front(), c.pixels.back()}) {
+      if (cluster.count(end) || !junction(end)) continue;
+      std::vector<int> stack{end};
+      cluster[end] = clusters;
+      while (!stack.empty()) {
+        int p = stack.back();
+        stack.pop_back();
+        int px = p % w, py = p / w;
+        for (int k = 0; k < 8; ++k) {
+          int qx = px + kDx[k], qy = py + kDy[k];
+          if (qx < 0 || qy < 0 || qx >= w || qy >= h || !edge.at<uint8_t>(qy, qx)) continue;
+          int q = qy * w + qx;
+          if (cluster.count(q) || !junction(q)) continue;
+          cluster[q] = clusters;
+          stack.push_back(q);
+        }
+      }
+      ++clusters;
+    }
+  }
+  // Chain ends per cluster: end id = 2 * chain + (0 front, 1 back).
+  std::vector<std::vector<int>> ends(clusters);
+  auto inward = [&](const Chain& c, bool back) {
+    const int n = int(c.pixels.size());
+    int a = back ? c.pixels[n - 1] : c.pixels[0];
+    int b = back ? c.pixels[std::max(0, n - 1 - kJoinReach)] : c.pixels[std::min(n - 1, kJoinReach)];
+    double dx = b % w - a % w, dy = b / w - a / w, l = std::hypot(dx, dy);
+    return l > 0 ? Point2{dx / l, dy / l} : Point2{0, 0};
+  };
+  for (size_t i = 0; i < chains.size(); ++i) {
+    const Chain& c = chains[i];
+    if (c.closed || c.pixels.size() < 3) continue;
+    auto f = cluster.find(c.pixels.front());
+    if (f != cluster.end()) ends[f->second].push_back(int(2 * i));
+    auto b = cluster.find(c.pixels.back());
+    if (b != cluster.end()) ends[b->second].push_back(int(2 * i + 1));
+  }
+  std::vector<int> partner(2 * chains.size(), -1);
+  for (const std::vector<int>& e : ends) {
+    struct Candidate {
+      double cos;
+      int a, b;
+    };
+    std::vector<Candidate> cand;
+    for (size_t i = 0; i < e.size(); ++i)
+      for (size_t j = i + 1; j < e.size(); ++j) {
+        if (e[i] / 2 == e[j] / 2) continue;  // a chain's two ends: would close a loop
+        Point2 da = inward(chains[e[i] / 2], e[i] % 2), db = inward(chains[e[j] / 2], e[j] % 2);
+        double c = da.x * db.x + da.y * db.y;
+        if (c <= kJoinCos) cand.push_back({c, e[i], e[j]});
+      }
+    std::stable_sort(cand.begin(), cand.end(), [](const Candidate& x, const Candidate& y) { return x.cos < y.cos; });
+    for (const Candidate& c : cand)
+      if (partner[c.a] < 0 && partner[c.b] < 0) {
+        partner[c.a] = c.b;
+        partner[c.b] = c.a;
+      }
+  }
+  // Walk the joined paths; joins that would close a cycle are cut at the first chain.
+  std::vector<Chain> out;
+  std::vector<bool> used(chains.size(), false);
+  auto walk = [&](size_t start, int entry_end) {
+    Chain merged;
+    size_t chain = start;
+    int entry = entry_end;  // the end we enter the chain by (0 front, 1 back)
+    while (true) {
+      used[chain] = true;
+      const auto& px = chains[chain].pixels;
+      std::vector<int> seq(px.begin(), px.end());
+      if (entry == 1) std::reverse(seq.begin(), seq.end());
+      size_t skip = (!merged.pixels.empty() && merged.pixels.back() == seq.front()) ? 1 : 0;
+      merged.pixels.insert(merged.pixels.end(), seq.begin() + skip, seq.end());
+      int exit_end = int(2 * chain) + (entry == 0 ? 1 : 0);
+      int next = partner[exit_end];
+      if (next >= 0 && size_t(next / 2) == start && next % 2 == entry_end && chain != start) {
+        merged.closed = true;  // the joins went all the way round
+        if (merged.pixels.size() > 1 && merged.pixels.back() == merged.pixels.front()) merged.pixels.pop_back();
+        break;
+      }
+      if (next < 0 || used[next / 2]) break;
+      chain = size_t(next / 2);
+      entry = next % 2;
+    }
+    out.push_back(std::move(merged));
+  };
+  for (size_t i = 0; i < chains.size(); ++i) {
+    if (used[i]) continue;
+    if (chains[i].closed) {
+      used[i] = true;
+      out.push_back(chains[i]);
+      continue;
+    }
+    // Start at a path end: an end without partner.
+    if (partner[2 * i] < 0) walk(i, 0);
+    else if (partner[2 * i + 1] < 0) walk(i, 1);
+  }
+  for (size_t i = 0; i < chains.size(); ++i)
+    if (!used[i]) walk(i, 0);  // cycles of joined chains: cut open at i
+  return out;
+}
+
 double ChainLength(const std::vector<Point2>& p, bool closed) {
   double len = 0;
   for (size_t i = 1; i < p.size(); ++i) len += std::hypot(p[i].x - p[i - 1].x, p[i].y - p[i - 1].y);
@@ -501,7 +620,7 @@ StatusOr<std::vector<FeatureCurve>> DetectFeatures(const Raster& image, const Ra
   cv::Mat offset;
   cv::Mat edge = SuppressAndLink(g, edge_domain, high, low, &offset);
   Thin(edge);
-  std::vector<Chain> chains = LinkChains(edge);
+  std::vector<Chain> chains = JoinAtJunctions(LinkChains(edge), edge);
 
   // Samples, blur and length per kept chain.
   struct Kept {

@@ -7,7 +7,10 @@
 #include <CGAL/Delaunay_mesh_vertex_base_2.h>
 #include <CGAL/Delaunay_mesher_no_edge_refinement_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Spatial_sort_traits_adapter_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
+#include <CGAL/hilbert_sort.h>
+#include <CGAL/property_map.h>
 
 #include <algorithm>
 #include <cmath>
@@ -107,9 +110,17 @@ StatusOr<Image> BuildControlMesh(int width, int height, const std::vector<Featur
   CDT cdt;
   std::vector<CDT::Vertex_handle> handles(points.size());
   try {
+    // Insert in Hilbert order (deterministic) so that each point is located near the last.
+    std::vector<K::Point_2> cgal_points;
+    cgal_points.reserve(points.size());
+    for (const Point2& p : points) cgal_points.emplace_back(p.x, p.y);
+    std::vector<std::size_t> order(points.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    using SortTraits = CGAL::Spatial_sort_traits_adapter_2<K, CGAL::Pointer_property_map<K::Point_2>::type>;
+    CGAL::hilbert_sort(order.begin(), order.end(), SortTraits(CGAL::make_property_map(cgal_points)));
     CDT::Face_handle hint;
-    for (size_t i = 0; i < points.size(); ++i) {
-      CDT::Vertex_handle v = cdt.insert(K::Point_2(points[i].x, points[i].y), hint);
+    for (const size_t i : order) {
+      CDT::Vertex_handle v = cdt.insert(cgal_points[i], hint);
       if (v->info().index != kNoIndex)
         return Status(StatusCode::kInternal, "BuildControlMesh: vertex " + std::to_string(i) + " at (" +
                                                  std::to_string(points[i].x) + ", " + std::to_string(points[i].y) +
@@ -129,14 +140,19 @@ StatusOr<Image> BuildControlMesh(int width, int height, const std::vector<Featur
         if (placed.polylines[k].boundary) boundary_edges.insert(EdgeKey(a, b));
       }
     }
-    MarkDomain(cdt, boundary_edges);
+    // The image rectangle is the convex hull: every finite face is in the domain.
+    if (placed.object_mode) MarkDomain(cdt, boundary_edges);
     Mesher mesher(cdt);
     const double angle = options.min_angle_deg * 3.14159265358979323846 / 180.0;
     const double bound = std::sin(angle) * std::sin(angle);  // 20 deg -> ~0.117 (CGAL: B <= 0.125)
     mesher.set_criteria(Criteria(std::min(0.125, bound), placed.max_edge));
-    mesher.init(true);
+    mesher.init(placed.object_mode);  // false: marks the convex hull
     mesher.refine_mesh();
-    MarkDomain(cdt, boundary_edges);
+    if (placed.object_mode) {
+      MarkDomain(cdt, boundary_edges);
+    } else {
+      for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) f->set_in_domain(!cdt.is_infinite(f));
+    }
   } catch (const std::exception& e) {
     return Status(StatusCode::kInternal, std::string("BuildControlMesh: CGAL failed: ") + e.what());
   }

@@ -56,7 +56,7 @@ struct FeatureOptions {
   double corner_window = 4;       // px on each side for the turning angle
   double blur_scale = 2.0;        // blur width sigma_b (px) that counts as blur 1
   bool quantize_sharpness = true; // Otsu two-level sharpness (paper); false: per chain
-  double fit_tolerance = 0.75;    // B-spline fit: max distance to the chain, px
+  double fit_tolerance = 1.0;     // B-spline fit: max distance to the chain, px
   double max_spacing = 12;        // B-spline fit: max arc length per polygon segment, px
   double min_domain_area = 16;    // object mode: smaller components / holes are dropped, px^2
 };
