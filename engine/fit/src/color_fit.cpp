@@ -4,7 +4,7 @@
 //   F_T (local fine vertices x local fine vertices) = sum over T's fine triangles and their
 //       domain pixels of w_a w_b, g_T = sum of w_a I(p);
 //   S_T = the stencil rows of those fine vertices restricted to the support U_T (the
-//       control vertices any of them depends on, plus T's own three vertices);
+//       control vertices any of them depends on, plus T's own three vertices; ascending);
 //   A += S_T^T F_T S_T, b += S_T^T g_T, scattered into the global sparse pattern.
 // Since every fine triangle has exactly one parent, summing over T gives S^T F S exactly.
 // Blocks of a batch of control triangles are computed in parallel and scattered serially
@@ -53,11 +53,15 @@ struct IndexSets {
 // Scratch memory of one assembly thread.
 struct BlockScratch {
   std::vector<int> local_of_control;  // control vertex -> column in U_T, or -1
-  std::vector<double> f, g, s, tmp;
+  std::vector<double> f, g, tmp;
+  std::vector<uint32_t> s_offsets;    // sparse S_T rows: [s_offsets[l], s_offsets[l+1])
+  std::vector<uint32_t> s_columns;
+  std::vector<double> s_weights;
 };
 
 // Computes A_T = S_T^T F_T S_T (u x u, row-major) and b_T = S_T^T g_T (u x 3) for control
-// triangle t into a_out / b_out.
+// triangle t into a_out / b_out. S_T is kept sparse (a stencil row touches about half of
+// U_T); F_T and the products are dense and small.
 void ComputeBlock(size_t t, const IndexSets& fine_of_control, const IndexSets& local_fine,
                   const IndexSets& support, const std::vector<Triangle>& fine_triangles,
                   const std::vector<uint32_t>& sample_offsets,
@@ -82,50 +86,59 @@ void ComputeBlock(size_t t, const IndexSets& fine_of_control, const IndexSets& l
       const uint32_t v = fine_triangles[*ft].v[k];
       la[k] = uint32_t(std::find(lf, lf + nl, v) - lf);
     }
+    double m[3][3] = {}, r[3][3] = {};
     for (uint32_t q = begin; q < end; ++q) {
       const PixelSample& sm = samples[sample_order[q]];
       const double w[3] = {sm.w0, sm.w1, sm.w2};
       double rgb[3];
       PixelRgb(target, sm.pixel, rgb);
       for (int a = 0; a < 3; ++a) {
-        for (int b = 0; b < 3; ++b) f[la[a] * nl + la[b]] += w[a] * w[b];
-        for (int c = 0; c < 3; ++c) g[la[a] * 3 + c] += w[a] * rgb[c];
+        for (int b = 0; b < 3; ++b) m[a][b] += w[a] * w[b];
+        for (int c = 0; c < 3; ++c) r[a][c] += w[a] * rgb[c];
       }
+    }
+    for (int a = 0; a < 3; ++a) {
+      for (int b = 0; b < 3; ++b) f[la[a] * nl + la[b]] += m[a][b];
+      for (int c = 0; c < 3; ++c) g[la[a] * 3 + c] += r[a][c];
     }
   }
   std::fill(a_out, a_out + size_t(u) * u, 0.0);
   std::fill(b_out, b_out + size_t(u) * 3, 0.0);
   if (!any) return;
+  // Sparse S_T rows in local columns.
   for (uint32_t k = 0; k < u; ++k) scratch.local_of_control[us[k]] = int(k);
-  // S_T: nl x u dense.
-  scratch.s.assign(size_t(nl) * u, 0.0);
-  double* s = scratch.s.data();
+  scratch.s_offsets.assign(1, 0);
+  scratch.s_columns.clear();
+  scratch.s_weights.clear();
   for (uint32_t l = 0; l < nl; ++l) {
     const uint32_t row = lf[l];
     for (uint32_t k = stencils.offsets[row]; k < stencils.offsets[row + 1]; ++k) {
-      s[size_t(l) * u + scratch.local_of_control[stencils.indices[k]]] += stencils.weights[k];
+      scratch.s_columns.push_back(uint32_t(scratch.local_of_control[stencils.indices[k]]));
+      scratch.s_weights.push_back(stencils.weights[k]);
     }
+    scratch.s_offsets.push_back(uint32_t(scratch.s_columns.size()));
   }
   for (uint32_t k = 0; k < u; ++k) scratch.local_of_control[us[k]] = -1;
-  // tmp = F_T S_T (nl x u).
+  const uint32_t* so = scratch.s_offsets.data();
+  const uint32_t* sc = scratch.s_columns.data();
+  const double* sw = scratch.s_weights.data();
+  // tmp = F_T S_T (nl x u, dense).
   scratch.tmp.assign(size_t(nl) * u, 0.0);
   double* tmp = scratch.tmp.data();
   for (uint32_t i = 0; i < nl; ++i) {
+    double* ti = tmp + size_t(i) * u;
     for (uint32_t j = 0; j < nl; ++j) {
       const double fij = f[i * nl + j];
       if (fij == 0.0) continue;
-      const double* sj = s + size_t(j) * u;
-      double* ti = tmp + size_t(i) * u;
-      for (uint32_t k = 0; k < u; ++k) ti[k] += fij * sj[k];
+      for (uint32_t k = so[j]; k < so[j + 1]; ++k) ti[sc[k]] += fij * sw[k];
     }
   }
   // A_T = S_T^T tmp, b_T = S_T^T g.
   for (uint32_t i = 0; i < nl; ++i) {
-    const double* si = s + size_t(i) * u;
     const double* ti = tmp + size_t(i) * u;
-    for (uint32_t a = 0; a < u; ++a) {
-      const double sia = si[a];
-      if (sia == 0.0) continue;
+    for (uint32_t k = so[i]; k < so[i + 1]; ++k) {
+      const uint32_t a = sc[k];
+      const double sia = sw[k];
       double* arow = a_out + size_t(a) * u;
       for (uint32_t b = 0; b < u; ++b) arow[b] += sia * ti[b];
       for (int c = 0; c < 3; ++c) b_out[a * 3 + c] += sia * g[i * 3 + c];
@@ -240,8 +253,8 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
     }
   }
 
-  // Local fine vertices and stencil support U_T of each control triangle (first-appearance
-  // order; T's own vertices first).
+  // Local fine vertices (first-appearance order) and stencil support U_T (ascending) of
+  // each control triangle.
   IndexSets local_fine, support;
   local_fine.offsets.reserve(num_control_tris + 1);
   support.offsets.reserve(num_control_tris + 1);
@@ -271,6 +284,7 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
         }
       }
       for (size_t k = first; k < support.items.size(); ++k) seen[support.items[k]] = 0;
+      std::sort(support.items.begin() + first, support.items.end());
       support.offsets.push_back(uint32_t(support.items.size()));
     }
   }
@@ -320,7 +334,7 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
 
   // Blocks in parallel per batch, scattered serially in triangle order.
   const int threads = std::max(1, options.threads);
-  const size_t batch = 4096;
+  const size_t batch = 512;  // blocks of one batch stay in cache-sized memory
   std::vector<BlockScratch> scratch(threads);
   for (BlockScratch& s : scratch) s.local_of_control.assign(num_control, -1);
   std::vector<size_t> block_offset(batch + 1);
@@ -353,17 +367,16 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
     }
     for (size_t t = t0; t < t1; ++t) {
       const size_t u = support.count(t);
-      const uint32_t* us = support.begin(t);
+      const uint32_t* us = support.begin(t);  // ascending: merge with the sorted row columns
       const double* a = blocks.data() + block_offset[t - t0];
       const double* b = a + u * u;
       for (size_t i = 0; i < u; ++i) {
         for (int c = 0; c < 3; ++c) rhs(us[i], c) += b[i * 3 + c];
         const double* arow = a + i * u;
-        bool nonzero = false;
-        for (size_t j = 0; j < u && !nonzero; ++j) nonzero = arow[j] != 0.0;
-        if (!nonzero) continue;
+        int p = row_start[us[i]];
         for (size_t j = 0; j < u; ++j) {
-          if (arow[j] != 0.0) values[position(us[i], us[j])] += arow[j];
+          while (columns[p] < int(us[j])) ++p;
+          values[p] += arow[j];
         }
       }
     }

@@ -259,11 +259,13 @@ StatusOr<VectorizeResult> Vectorize(const Raster& raster, const Raster* mask,
     }
   }
 
-  // Final metrics, measured the way `sdvi render` + `sdvi compare` would.
+  // Final metrics: Render at the fitted level r + CompareImages, as
+  // `sdvi render --levels r` + `sdvi compare` would measure them.
   phase("metrics");
   start = Clock::now();
   RenderOptions render_options;
   render_options.viewport = Viewport::Identity(width, height);
+  render_options.levels = std::max(2, options.fit.surface.levels);  // the fitted level r
   SDVI_ASSIGN_OR_RETURN(result.reconstruction, Render(mesh, render_options));
   Raster reference_with_domain;
   const Raster* reference = &raster;

@@ -81,7 +81,8 @@ struct VectorizeReport {
   uint64_t paper_size = 0;         // 20 V + 6 T + 8 bytes
   uint64_t pixels = 0;             // domain pixels
   double compression_ratio = 0;    // pixels / vertices
-  double psnr = 0, mssim = 0, mean_error = 0;  // of Render() vs the input (CompareImages)
+  double psnr = 0, mssim = 0, mean_error = 0;  // of Render() at the fit level r vs the input
+                                               // (CompareImages)
   uint32_t feature_curves = 0;     // curves used (after the budget filter)
   VectorizeTimings seconds;
   std::vector<VectorizeIteration> history;
@@ -91,7 +92,8 @@ struct VectorizeResult {
   Image image;                        // the fitted sdvi image
   VectorizeReport report;
   std::vector<FeatureCurve> features; // the curves used
-  Raster reconstruction;              // Render() of image at the identity viewport (RGBA)
+  Raster reconstruction;              // Render() of image at the identity viewport, level r
+                                      // of the fit (RGBA)
 };
 
 // Vectorizes raster (grey / RGB, with alpha or a mask for object images: see FitColors for
