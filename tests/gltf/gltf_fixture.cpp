@@ -4,7 +4,7 @@
 //   sdvi_gltf_fixture gltf   gradient|object W H OUT.glb|OUT.gltf [--draco] [--control-mesh] [--levels r]
 //   sdvi_gltf_fixture compare SHOT.png OURS.png MIN_PSNR [SIDE_BY_SIDE.png]
 // compare prints the metrics of sdvi::CompareImages (PSNR over the pixels both images
-// cover) and fails (exit 1) below MIN_PSNR; SIDE_BY_SIDE.png shows SHOT | OURS | 4 x |difference|.
+// cover) and fails (exit 1) below MIN_PSNR; SIDE_BY_SIDE.png shows SHOT | OURS | 4 x |difference| (magenta: covered by one only).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -98,9 +98,14 @@ int Compare(const std::string& shot_path, const std::string& ours_path, double m
         };
         put(0, shot.at(x, y, 0), shot.at(x, y, 1), shot.at(x, y, 2), shot.at(x, y, 3));
         put(1, ours.at(x, y, 0), ours.at(x, y, 1), ours.at(x, y, 2), ours.at(x, y, 3));
-        float d = 0;
-        for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(shot.at(x, y, c) - ours.at(x, y, c)));
-        put(2, 4 * d, 4 * d, 4 * d, 1);
+        const bool shot_covers = shot.at(x, y, 3) > 0.5f, ours_covers = ours.at(x, y, 3) > 0.5f;
+        if (shot_covers != ours_covers) {
+          put(2, 255, 0, 255, 1);  // coverage disagreement: magenta
+        } else if (shot_covers) {
+          float d = 0;
+          for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(shot.at(x, y, c) - ours.at(x, y, c)));
+          put(2, 4 * d, 4 * d, 4 * d, 1);
+        }
       }
     }
     sdvi::Status written = sdvi::WriteViaTempFile(side_by_side, [&out](const std::string& tmp) {
