@@ -1,6 +1,90 @@
-// Placeholder until the module's command lands; replaced by its owner.
+// sdvi subdivide IN.sdvi --levels r [--limit] -o OUT.ply
+// Writes the level-r fine mesh (or its limit surface with --limit) as binary PLY:
+// per-vertex x, y, z = 0 (source pixels, y down), colour as uchar red/green/blue
+// (rounded, clamped to 0..255) and uchar tag (0 smooth, 1 crease, 2 corner); faces as
+// uint index triples in the orientation of their control triangle.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "args.h"
 #include "commands.h"
+#include "io.h"
+#include "sdvi/file_util.h"
+#include "sdvi/subdiv.h"
+
 namespace sdvi::cli {
-int RunSubdivide(const CommandArgs&) { std::fprintf(stderr, "sdvi: command not built yet\n"); return 2; }
+namespace {
+
+void PutU32(std::vector<uint8_t>& out, uint32_t v) {
+  for (int i = 0; i < 4; ++i) out.push_back(static_cast<uint8_t>(v >> (8 * i)));
+}
+void PutF32(std::vector<uint8_t>& out, float f) {
+  uint32_t bits;
+  std::memcpy(&bits, &f, 4);
+  PutU32(out, bits);
+}
+uint8_t ColourByte(float c) { return static_cast<uint8_t>(std::lround(std::clamp(c, 0.0f, 255.0f))); }
+
+// The binary little-endian PLY file of mesh.
+std::vector<uint8_t> EncodePly(const RefinedMesh& mesh, bool limit) {
+  std::string header =
+      "ply\nformat binary_little_endian 1.0\n"
+      "comment sdvi subdivide: Loop level " + std::to_string(mesh.levels) +
+      (limit ? ", limit positions" : ", level positions") +
+      "\ncomment x, y in source pixels (y down); tag: 0 smooth, 1 crease, 2 corner\n"
+      "element vertex " + std::to_string(mesh.vertices.size()) +
+      "\nproperty float x\nproperty float y\nproperty float z\n"
+      "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar tag\n"
+      "element face " + std::to_string(mesh.triangles.size()) +
+      "\nproperty list uchar uint vertex_indices\nend_header\n";
+  std::vector<uint8_t> out(header.begin(), header.end());
+  out.reserve(out.size() + 16 * mesh.vertices.size() + 13 * mesh.triangles.size());
+  for (size_t i = 0; i < mesh.vertices.size(); ++i) {
+    const Vertex& v = mesh.vertices[i];
+    PutF32(out, v.x);
+    PutF32(out, v.y);
+    PutF32(out, 0.0f);
+    out.push_back(ColourByte(v.r));
+    out.push_back(ColourByte(v.g));
+    out.push_back(ColourByte(v.b));
+    out.push_back(static_cast<uint8_t>(mesh.vertex_tags[i]));
+  }
+  for (const Triangle& t : mesh.triangles) {
+    out.push_back(3);
+    for (uint32_t v : t.v) PutU32(out, v);
+  }
+  return out;
+}
+
+}  // namespace
+
+int RunSubdivide(const CommandArgs& args) {
+  const std::string command = "subdivide";
+  auto parsed = Args::Parse(args, ArgSpec{{"--levels", "-o"}, {"--limit"}});
+  if (!parsed.ok()) return ReportError(command, parsed.status());
+  if (parsed->positional().size() != 1)
+    return ReportError(command, Status(StatusCode::kInvalidArgument, "expected one input .sdvi file"));
+  const auto output = parsed->get("-o");
+  if (!output) return ReportError(command, Status(StatusCode::kInvalidArgument, "missing -o OUT.ply"));
+  auto levels = parsed->GetInt("--levels", 2);
+  if (!levels.ok()) return ReportError(command, levels.status());
+  auto image = LoadSdvi(parsed->positional()[0]);
+  if (!image.ok()) return ReportError(command, image.status());
+  LimitSurfaceOptions options;
+  options.levels = *levels;
+  options.to_limit = parsed->flag("--limit");
+  auto mesh = RefineImage(*image, options);
+  if (!mesh.ok()) return ReportError(command, mesh.status());
+  const Status written = WriteFileAtomic(*output, EncodePly(*mesh, options.to_limit));
+  if (!written.ok()) return ReportError(command, written);
+  std::printf("%s: %zu vertices, %zu triangles (level %d%s)\n", output->c_str(), mesh->vertices.size(),
+              mesh->triangles.size(), mesh->levels, options.to_limit ? ", limit" : "");
+  return 0;
+}
+
 }  // namespace sdvi::cli
