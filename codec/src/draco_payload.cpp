@@ -28,7 +28,9 @@ constexpr uint8_t kVersionMajor = 1;
 constexpr uint8_t kVersionMinor = 0;
 constexpr size_t kHeaderSize = 40;
 constexpr size_t kCrcOffset = 36;
-constexpr uint8_t kFlagVertexIds = 1;  // the Draco mesh has the vertex id attribute
+constexpr uint8_t kFlagVertexIds = 1;     // the Draco mesh has the vertex id attribute
+constexpr uint8_t kFlagFeatureLayer = 2;  // the tag stream carries the feature layer
+constexpr uint8_t kKnownFlags = kFlagVertexIds | kFlagFeatureLayer;
 
 // Draco attribute unique ids, in the order the attributes are added.
 constexpr uint32_t kPositionUniqueId = 0;
@@ -82,6 +84,8 @@ StatusOr<Header> ParseHeader(std::span<const uint8_t> payload, const std::string
     return Status(h.major > kVersionMajor ? StatusCode::kUnsupportedVersion : StatusCode::kCorrupt,
                   what + " has version " + std::to_string(h.major) + "." +
                       std::to_string(h.minor) + "; this build reads version 1");
+  if (h.flags & ~kKnownFlags)
+    return Status(StatusCode::kCorrupt, what + " has unknown flags " + std::to_string(h.flags));
   const uint64_t expected = kHeaderSize + uint64_t{h.draco_size} + h.tags_size;
   if (payload.size() < expected)
     return Status(StatusCode::kTruncated,
@@ -274,6 +278,23 @@ Status ValidateForEncoding(const Image& image) {
   return Status::Ok();
 }
 
+Status ValidateFeatureLayer(const Image& image) {
+  const size_t n = image.vertices.size();
+  for (size_t p = 0; p < image.polylines.size(); ++p)
+    for (uint32_t v : image.polylines[p].vertices)
+      if (v >= n)
+        return Status(StatusCode::kIndexOutOfRange,
+                      "image to compress: feature polyline " + std::to_string(p) + " names vertex " +
+                          std::to_string(v) + " of " + std::to_string(n));
+  for (const FeaturePair& pair : image.pairs)
+    if (pair.first >= image.polylines.size() || pair.second >= image.polylines.size())
+      return Status(StatusCode::kIndexOutOfRange,
+                    "image to compress: a feature pair names polyline " +
+                        std::to_string(std::max(pair.first, pair.second)) + " of " +
+                        std::to_string(image.polylines.size()));
+  return Status::Ok();
+}
+
 // True when decoded (with ids) is image up to quantization, vertex order and triangle
 // order and rotation.
 bool MapsBack(const DecodedMesh& decoded, const Image& image, const ErrorBound& bound) {
@@ -380,6 +401,7 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
     return Status(StatusCode::kInvalidArgument,
                   "speed " + std::to_string(options.speed) + " not in 0..10");
   SDVI_RETURN_IF_ERROR(ValidateForEncoding(image));
+  if (options.feature_layer) SDVI_RETURN_IF_ERROR(ValidateFeatureLayer(image));
   const uint32_t n = static_cast<uint32_t>(image.vertices.size());
 
   // Crease edges and corners: sorted, unique, crease edges on the mesh.
@@ -462,16 +484,26 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
   renumbered.triangles = image.triangles;
   renumbered.crease_edges = creases;
   renumbered.corners = corners;
+  if (options.feature_layer) {
+    renumbered.polylines = image.polylines;
+    renumbered.pairs = image.pairs;
+  }
   SDVI_RETURN_IF_ERROR(RenumberVertices(renumbering, &renumbered));
+  codec_internal::Tags tag_set;
+  tag_set.crease_edges = std::move(renumbered.crease_edges);
+  tag_set.corners = std::move(renumbered.corners);
+  tag_set.has_feature_layer = options.feature_layer;
+  tag_set.polylines = std::move(renumbered.polylines);
+  tag_set.pairs = std::move(renumbered.pairs);
   const std::vector<uint8_t> tags = codec_internal::EncodeTags(
-      n, codec_internal::CollectMeshEdges(renumbered.triangles), renumbered.crease_edges,
-      renumbered.corners);
+      n, codec_internal::CollectMeshEdges(renumbered.triangles), tag_set);
 
   std::vector<uint8_t> payload(kHeaderSize + draco_bytes.size() + tags.size(), 0);
   std::memcpy(payload.data(), kMagic, 4);
   payload[4] = kVersionMajor;
   payload[5] = kVersionMinor;
-  payload[6] = with_ids ? kFlagVertexIds : 0;
+  payload[6] = static_cast<uint8_t>((with_ids ? kFlagVertexIds : 0) |
+                                    (options.feature_layer ? kFlagFeatureLayer : 0));
   payload[7] = static_cast<uint8_t>(position_bits);
   payload[8] = static_cast<uint8_t>(color_bits);
   payload[9] = static_cast<uint8_t>(options.speed);
@@ -553,10 +585,15 @@ Status DecodeDracoPayload(std::span<const uint8_t> payload, const std::string& s
     for (size_t f = 0; f < mesh.faces.size(); ++f)
       for (int k = 0; k < 3; ++k) out.triangles[f].v[k] = index_of_point[mesh.faces[f][k]];
     CanonicalizeTriangles(&out.triangles);
+    codec_internal::Tags tags;
     SDVI_RETURN_IF_ERROR(codec_internal::DecodeTags(
         payload.subspan(kHeaderSize + h.draco_size, h.tags_size), n,
         codec_internal::CollectMeshEdges(out.triangles), h.crease_edge_count, h.corner_count,
-        source_name, &out.crease_edges, &out.corners));
+        (h.flags & kFlagFeatureLayer) != 0, source_name, &tags));
+    out.crease_edges = std::move(tags.crease_edges);
+    out.corners = std::move(tags.corners);
+    out.polylines = std::move(tags.polylines);
+    out.pairs = std::move(tags.pairs);
   } catch (const std::bad_alloc&) {
     return Status(StatusCode::kLimitExceeded, what + ": out of memory while decoding");
   }
@@ -564,6 +601,10 @@ Status DecodeDracoPayload(std::span<const uint8_t> payload, const std::string& s
   image->triangles = std::move(out.triangles);
   image->crease_edges = std::move(out.crease_edges);
   image->corners = std::move(out.corners);
+  if (h.flags & kFlagFeatureLayer) {
+    image->polylines = std::move(out.polylines);
+    image->pairs = std::move(out.pairs);
+  }
   return Status::Ok();
 }
 
@@ -584,6 +625,7 @@ StatusOr<DracoPayloadInfo> InspectDracoPayload(std::span<const uint8_t> payload,
   info.color_bits = h.color_bits;
   info.speed = h.speed;
   info.has_vertex_ids = (h.flags & kFlagVertexIds) != 0;
+  info.has_feature_layer = (h.flags & kFlagFeatureLayer) != 0;
   return info;
 }
 

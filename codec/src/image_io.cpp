@@ -19,7 +19,8 @@ PayloadSummary SummaryOf(std::span<const uint8_t> payload) {
   summary.params = {{"position_bits", std::to_string(info->position_bits)},
                     {"color_bits", std::to_string(info->color_bits)},
                     {"speed", std::to_string(info->speed)},
-                    {"vertex_ids", info->has_vertex_ids ? "1" : "0"}};
+                    {"vertex_ids", info->has_vertex_ids ? "1" : "0"},
+                    {"feature_layer", info->has_feature_layer ? "1" : "0"}};
   return summary;
 }
 
@@ -30,6 +31,10 @@ StatusOr<Image> DecodeImage(std::span<const uint8_t> bytes, const std::string& s
   SDVI_ASSIGN_OR_RETURN(SdviFile file, DecodeSdvi(bytes, source_name, options));
   if (file.payload == PayloadKind::kRaw) return std::move(file.image);
   Image image = std::move(file.image);
+  SDVI_ASSIGN_OR_RETURN(DracoPayloadInfo info, InspectDracoPayload(file.compressed_payload, source_name));
+  if (info.has_feature_layer && (!image.polylines.empty() || !image.pairs.empty()))
+    return Status(StatusCode::kCorrupt, source_name + ": the feature layer is both in the container "
+                                                      "and in the compressed payload");
   SDVI_RETURN_IF_ERROR(DecodeDracoPayload(file.compressed_payload, source_name, &image,
                                           std::min<uint64_t>(options.max_vertices,
                                                              options.max_triangles)));
@@ -72,6 +77,10 @@ StatusOr<std::vector<uint8_t>> EncodeImage(const Image& image, const CompressOpt
   rest.triangles.clear();
   rest.crease_edges.clear();
   rest.corners.clear();
+  if (compress->feature_layer) {
+    rest.polylines.clear();
+    rest.pairs.clear();
+  }
   return EncodeSdviCompressed(rest, payload, SummaryOf(payload));
 }
 

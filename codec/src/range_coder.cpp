@@ -26,6 +26,17 @@ void RangeEncoder::Encode(BitModel& model, bool bit) {
   }
 }
 
+void RangeEncoder::EncodeDirect(uint32_t value, int bits) {
+  for (int i = bits - 1; i >= 0; --i) {
+    range_ >>= 1;
+    if ((value >> i) & 1u) low_ += range_;
+    while (range_ < kTopValue) {
+      range_ <<= 8;
+      ShiftLow();
+    }
+  }
+}
+
 // Emits the top byte of low, holding back 0xFF bytes until a carry is known.
 void RangeEncoder::ShiftLow() {
   if (static_cast<uint32_t>(low_) < 0xFF000000u || (low_ >> 32) != 0) {
@@ -49,6 +60,24 @@ std::vector<uint8_t> RangeEncoder::Finish() {
 RangeDecoder::RangeDecoder(std::span<const uint8_t> bytes) : bytes_(bytes) {
   if (NextByte() != 0) overrun_ = true;
   for (int i = 0; i < 4; ++i) code_ = (code_ << 8) | NextByte();
+}
+
+uint32_t RangeDecoder::DecodeDirect(int bits) {
+  uint32_t value = 0;
+  for (int i = 0; i < bits; ++i) {
+    range_ >>= 1;
+    uint32_t bit = 0;
+    if (code_ >= range_) {
+      code_ -= range_;
+      bit = 1;
+    }
+    value = (value << 1) | bit;
+    while (range_ < kTopValue) {
+      range_ <<= 8;
+      code_ = (code_ << 8) | NextByte();
+    }
+  }
+  return value;
 }
 
 uint8_t RangeDecoder::NextByte() {

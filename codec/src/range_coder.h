@@ -18,6 +18,9 @@ struct BitModel {
 class RangeEncoder {
  public:
   void Encode(BitModel& model, bool bit);
+  // Codes the low `bits` bits of value (0..32), most significant first, each with
+  // probability one half (no model).
+  void EncodeDirect(uint32_t value, int bits);
   // Flushes the coder and returns the bytes; the encoder is spent afterwards.
   std::vector<uint8_t> Finish();
 
@@ -34,6 +37,7 @@ class RangeDecoder {
  public:
   explicit RangeDecoder(std::span<const uint8_t> bytes);
   bool Decode(BitModel& model);
+  uint32_t DecodeDirect(int bits);
   // True when the decoder needed bytes past the end of its input, or the stream did not
   // start with the zero byte every encoder writes first: the stream is corrupt.
   bool overrun() const { return overrun_; }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
+#include <cstring>
 
 #include "range_coder.h"
 
@@ -19,6 +21,64 @@ int EdgeContext(const MeshEdge& e, const std::vector<uint32_t>& degree) {
 
 int CornerContext(uint32_t v, const std::vector<uint32_t>& degree) {
   return static_cast<int>(std::min<uint32_t>(degree[v], 3));
+}
+
+// Bits needed to write any index below count (at least 1).
+int IndexBits(uint64_t count) {
+  return count <= 2 ? 1 : static_cast<int>(std::bit_width(count - 1));
+}
+
+// The models of the feature layer.
+struct FeatureModels {
+  std::array<BitModel, 32> count_prefix{};  // Exp-Golomb prefix of counts
+  BitModel closed;
+  std::array<BitModel, 8> stop{};           // closed x vertex class
+  std::array<BitModel, 3> choice{};         // candidate position min(j, 2)
+};
+
+// Vertex class for the stop bit: 0 = crease degree 0 or 1, 1 = degree 2, 2 = degree 2
+// and an explicit corner, 3 = degree >= 3.
+int VertexClass(uint32_t degree, bool corner) {
+  if (degree <= 1) return 0;
+  if (degree >= 3) return 3;
+  return corner ? 2 : 1;
+}
+
+// Exp-Golomb with adaptive prefix: x = value + 1 has k bits (1..32); k - 1 one bits and
+// a zero bit with models count_prefix[0..k-1], then the low k - 1 bits of x directly.
+void EncodeCount(RangeEncoder& rc, FeatureModels& m, uint32_t value) {
+  const uint64_t x = uint64_t{value} + 1;
+  const int k = static_cast<int>(std::bit_width(x));
+  for (int i = 0; i < k - 1; ++i) rc.Encode(m.count_prefix[i], true);
+  rc.Encode(m.count_prefix[k - 1], false);
+  rc.EncodeDirect(static_cast<uint32_t>(x), k - 1);
+}
+
+// The count, or UINT64_MAX when the prefix runs past 32 bits (a damaged stream).
+uint64_t DecodeCount(RangeDecoder& rc, FeatureModels& m) {
+  int k = 1;
+  while (rc.Decode(m.count_prefix[k - 1]))
+    if (++k > 32) return UINT64_MAX;
+  const uint64_t x = (uint64_t{1} << (k - 1)) | rc.DecodeDirect(k - 1);
+  return x - 1;
+}
+
+// Crease neighbours of every vertex, ascending.
+std::vector<std::vector<uint32_t>> CreaseNeighbours(uint32_t vertex_count, const std::vector<Edge>& creases) {
+  std::vector<std::vector<uint32_t>> out(vertex_count);
+  for (const Edge& e : creases) {
+    out[e.a].push_back(e.b);
+    out[e.b].push_back(e.a);
+  }
+  for (auto& n : out) std::sort(n.begin(), n.end());
+  return out;
+}
+
+std::vector<uint32_t> Candidates(const std::vector<uint32_t>& neighbours, int64_t previous) {
+  std::vector<uint32_t> out;
+  for (uint32_t n : neighbours)
+    if (int64_t{n} != previous) out.push_back(n);
+  return out;
 }
 
 }  // namespace
@@ -47,75 +107,170 @@ std::vector<MeshEdge> CollectMeshEdges(const std::vector<Triangle>& triangles) {
 }
 
 std::vector<uint8_t> EncodeTags(uint32_t vertex_count, const std::vector<MeshEdge>& edges,
-                                const std::vector<Edge>& crease_edges,
-                                const std::vector<uint32_t>& corners) {
-  RangeEncoder encoder;
+                                const Tags& tags) {
+  RangeEncoder rc;
   std::array<BitModel, kEdgeContexts> edge_models{};
   std::array<BitModel, kCornerContexts> corner_models{};
   std::vector<uint32_t> degree(vertex_count, 0);
   size_t next_crease = 0;  // crease_edges and edges are both sorted by (a, b)
   for (const MeshEdge& e : edges) {
-    while (next_crease < crease_edges.size() && crease_edges[next_crease] < Edge{e.a, e.b})
-      ++next_crease;
-    const bool crease = next_crease < crease_edges.size() &&
-                        crease_edges[next_crease].a == e.a && crease_edges[next_crease].b == e.b;
-    encoder.Encode(edge_models[EdgeContext(e, degree)], crease);
+    const auto& creases = tags.crease_edges;
+    while (next_crease < creases.size() && creases[next_crease] < Edge{e.a, e.b}) ++next_crease;
+    const bool crease = next_crease < creases.size() && creases[next_crease].a == e.a &&
+                        creases[next_crease].b == e.b;
+    rc.Encode(edge_models[EdgeContext(e, degree)], crease);
     if (crease) {
       ++degree[e.a];
       ++degree[e.b];
     }
   }
-  size_t next_corner = 0;
-  for (uint32_t v = 0; v < vertex_count; ++v) {
-    const bool corner = next_corner < corners.size() && corners[next_corner] == v;
-    if (corner) ++next_corner;
-    encoder.Encode(corner_models[CornerContext(v, degree)], corner);
+  std::vector<char> is_corner(vertex_count, 0);
+  for (uint32_t c : tags.corners) is_corner[c] = 1;
+  for (uint32_t v = 0; v < vertex_count; ++v)
+    rc.Encode(corner_models[CornerContext(v, degree)], is_corner[v] != 0);
+
+  if (tags.has_feature_layer) {
+    FeatureModels m;
+    const auto neighbours = CreaseNeighbours(vertex_count, tags.crease_edges);
+    const int vertex_bits = IndexBits(vertex_count);
+    EncodeCount(rc, m, static_cast<uint32_t>(tags.polylines.size()));
+    for (const FeaturePolyline& line : tags.polylines) {
+      rc.Encode(m.closed, line.closed);
+      const auto& vs = line.vertices;
+      if (vs.empty()) {  // an empty polyline: first "vertex" index V marks it
+        rc.EncodeDirect(vertex_count, IndexBits(uint64_t{vertex_count} + 1));
+        continue;
+      }
+      rc.EncodeDirect(vs[0], IndexBits(uint64_t{vertex_count} + 1));
+      for (size_t i = 0; i < vs.size(); ++i) {
+        const uint32_t v = vs[i];
+        const bool stop = i + 1 == vs.size();
+        const int cls = VertexClass(static_cast<uint32_t>(neighbours[v].size()), is_corner[v] != 0);
+        rc.Encode(m.stop[(line.closed ? 4 : 0) + cls], stop);
+        if (stop) break;
+        const auto candidates = Candidates(neighbours[v], i > 0 ? int64_t{vs[i - 1]} : -1);
+        const uint32_t next = vs[i + 1];
+        bool found = false;
+        for (size_t j = 0; j < candidates.size() && !found; ++j) {
+          found = candidates[j] == next;
+          rc.Encode(m.choice[std::min<size_t>(j, 2)], found);
+        }
+        if (!found) rc.EncodeDirect(next, vertex_bits);
+      }
+    }
+    EncodeCount(rc, m, static_cast<uint32_t>(tags.pairs.size()));
+    const int polyline_bits = IndexBits(tags.polylines.size());
+    for (const FeaturePair& pair : tags.pairs) {
+      rc.EncodeDirect(pair.first, polyline_bits);
+      rc.EncodeDirect(pair.second, polyline_bits);
+      uint32_t sharpness_bits;
+      std::memcpy(&sharpness_bits, &pair.sharpness, 4);
+      rc.EncodeDirect(sharpness_bits, 32);
+    }
   }
-  return encoder.Finish();
+  return rc.Finish();
 }
 
 Status DecodeTags(std::span<const uint8_t> bytes, uint32_t vertex_count,
                   const std::vector<MeshEdge>& edges, uint32_t expected_crease_edges,
-                  uint32_t expected_corners, const std::string& source_name,
-                  std::vector<Edge>* crease_edges, std::vector<uint32_t>* corners) {
-  RangeDecoder decoder(bytes);
+                  uint32_t expected_corners, bool has_feature_layer,
+                  const std::string& source_name, Tags* tags) {
+  const std::string what = source_name + ": Draco payload tag stream";
+  RangeDecoder rc(bytes);
   std::array<BitModel, kEdgeContexts> edge_models{};
   std::array<BitModel, kCornerContexts> corner_models{};
   std::vector<uint32_t> degree(vertex_count, 0);
-  std::vector<Edge> creases;
-  std::vector<uint32_t> tagged_corners;
+  Tags out;
   for (const MeshEdge& e : edges) {
-    if (decoder.Decode(edge_models[EdgeContext(e, degree)])) {
-      creases.push_back({e.a, e.b});
+    if (rc.Decode(edge_models[EdgeContext(e, degree)])) {
+      out.crease_edges.push_back({e.a, e.b});
       ++degree[e.a];
       ++degree[e.b];
-      if (creases.size() > expected_crease_edges) break;
+      if (out.crease_edges.size() > expected_crease_edges) break;
     }
   }
-  if (creases.size() != expected_crease_edges)
+  if (out.crease_edges.size() != expected_crease_edges)
     return Status(StatusCode::kCorrupt,
-                  source_name + ": Draco payload tag stream holds " +
-                      (creases.size() > expected_crease_edges ? "more than " : "") +
-                      std::to_string(creases.size()) + " crease edges, header says " +
+                  what + " holds " + (out.crease_edges.size() > expected_crease_edges ? "more than " : "") +
+                      std::to_string(out.crease_edges.size()) + " crease edges, header says " +
                       std::to_string(expected_crease_edges));
+  std::vector<char> is_corner(vertex_count, 0);
   for (uint32_t v = 0; v < vertex_count; ++v) {
-    if (decoder.Decode(corner_models[CornerContext(v, degree)])) {
-      tagged_corners.push_back(v);
-      if (tagged_corners.size() > expected_corners) break;
+    if (rc.Decode(corner_models[CornerContext(v, degree)])) {
+      out.corners.push_back(v);
+      is_corner[v] = 1;
+      if (out.corners.size() > expected_corners) break;
     }
   }
-  if (tagged_corners.size() != expected_corners)
+  if (out.corners.size() != expected_corners)
     return Status(StatusCode::kCorrupt,
-                  source_name + ": Draco payload tag stream holds " +
-                      (tagged_corners.size() > expected_corners ? "more than " : "") +
-                      std::to_string(tagged_corners.size()) + " corners, header says " +
+                  what + " holds " + (out.corners.size() > expected_corners ? "more than " : "") +
+                      std::to_string(out.corners.size()) + " corners, header says " +
                       std::to_string(expected_corners));
-  if (decoder.overrun())
+
+  if (has_feature_layer) {
+    out.has_feature_layer = true;
+    FeatureModels m;
+    const auto neighbours = CreaseNeighbours(vertex_count, out.crease_edges);
+    const int vertex_bits = IndexBits(vertex_count);
+    // Bounds against damaged streams: no more polylines than vertices plus crease edges,
+    // no more polyline vertices in all than twice the vertices plus crease edges.
+    const uint64_t max_polylines = uint64_t{vertex_count} + expected_crease_edges + 16;
+    const uint64_t max_polyline_vertices = 2 * (uint64_t{vertex_count} + expected_crease_edges) + 16;
+    const uint64_t count = DecodeCount(rc, m);
+    if (count > max_polylines || rc.overrun())
+      return Status(StatusCode::kCorrupt, what + " counts " + std::to_string(count) +
+                                              " feature polylines, more than the mesh can hold");
+    uint64_t total = 0;
+    out.polylines.resize(count);
+    for (FeaturePolyline& line : out.polylines) {
+      line.closed = rc.Decode(m.closed);
+      const uint32_t first = rc.DecodeDirect(IndexBits(uint64_t{vertex_count} + 1));
+      if (first == vertex_count) continue;  // empty polyline
+      if (first > vertex_count)
+        return Status(StatusCode::kCorrupt, what + ": a feature polyline starts at vertex " +
+                                                std::to_string(first) + " of " + std::to_string(vertex_count));
+      line.vertices.push_back(first);
+      while (true) {
+        if (++total > max_polyline_vertices || rc.overrun())
+          return Status(StatusCode::kCorrupt, what + ": the feature polylines do not end");
+        const uint32_t v = line.vertices.back();
+        const int cls = VertexClass(static_cast<uint32_t>(neighbours[v].size()), is_corner[v] != 0);
+        if (rc.Decode(m.stop[(line.closed ? 4 : 0) + cls])) break;
+        const size_t n = line.vertices.size();
+        const auto candidates = Candidates(neighbours[v], n > 1 ? int64_t{line.vertices[n - 2]} : -1);
+        int64_t next = -1;
+        for (size_t j = 0; j < candidates.size() && next < 0; ++j)
+          if (rc.Decode(m.choice[std::min<size_t>(j, 2)])) next = candidates[j];
+        if (next < 0) next = rc.DecodeDirect(vertex_bits);
+        if (next >= int64_t{vertex_count})
+          return Status(StatusCode::kCorrupt, what + ": a feature polyline names vertex " +
+                                                  std::to_string(next) + " of " + std::to_string(vertex_count));
+        line.vertices.push_back(static_cast<uint32_t>(next));
+      }
+    }
+    const uint64_t pair_count = DecodeCount(rc, m);
+    if (pair_count > 4 * count + 16 || rc.overrun())
+      return Status(StatusCode::kCorrupt, what + " counts " + std::to_string(pair_count) +
+                                              " feature pairs for " + std::to_string(count) + " polylines");
+    const int polyline_bits = IndexBits(count);
+    out.pairs.resize(pair_count);
+    for (FeaturePair& pair : out.pairs) {
+      pair.first = rc.DecodeDirect(polyline_bits);
+      pair.second = rc.DecodeDirect(polyline_bits);
+      const uint32_t sharpness_bits = rc.DecodeDirect(32);
+      std::memcpy(&pair.sharpness, &sharpness_bits, 4);
+      if (pair.first >= count || pair.second >= count)
+        return Status(StatusCode::kCorrupt, what + ": a feature pair names polyline " +
+                                                std::to_string(std::max(pair.first, pair.second)) + " of " +
+                                                std::to_string(count));
+    }
+  }
+  if (rc.overrun())
     return Status(StatusCode::kCorrupt,
-                  source_name + ": Draco payload tag stream (" + std::to_string(bytes.size()) +
+                  what + " (" + std::to_string(bytes.size()) +
                       " bytes) ends before its last bit or does not start with a zero byte");
-  *crease_edges = std::move(creases);
-  *corners = std::move(tagged_corners);
+  *tags = std::move(out);
   return Status::Ok();
 }
 

@@ -1,11 +1,16 @@
 // The tag stream of the Draco payload (spec/FORMAT.md, "Tag stream"): which mesh edges
-// are crease edges and which vertices are explicit corners, as adaptive-binary-range-
-// coded bits in an order both sides derive from the decoded mesh alone.
+// are crease edges, which vertices are explicit corners and, optionally, the feature
+// layer, as adaptive-binary-range-coded bits in an order both sides derive from the
+// decoded mesh alone.
 //
-// Edge bits: the undirected mesh edges (a, b), a < b, sorted by (a, b); one bit each,
-// 1 = crease. Context: boundary (edge of exactly one triangle) x min(crease degree of a
-// so far, 2) x min(crease degree of b so far, 2): 18 models. Then corner bits: vertex 0..
-// V-1, 1 = explicit corner, context min(crease degree, 3): 4 models.
+// 1. Edge bits: the undirected mesh edges (a, b), a < b, sorted by (a, b); one bit each,
+//    1 = crease. Context: boundary (edge of exactly one triangle) x min(crease degree of
+//    a so far, 2) x min(crease degree of b so far, 2): 18 models.
+// 2. Corner bits: vertex 0..V-1, 1 = explicit corner; context min(crease degree, 3).
+// 3. Feature layer (when present): polyline count; per polyline a closed bit, the first
+//    vertex, then per vertex a stop bit and, unless stopping, the next vertex as the
+//    choice among the current vertex's crease neighbours (ascending, the previous vertex
+//    left out) or an escape with the index written out. Then the pairs.
 #pragma once
 
 #include <cstdint>
@@ -27,17 +32,25 @@ struct MeshEdge {
 // Every edge of triangles, sorted by (a, b).
 std::vector<MeshEdge> CollectMeshEdges(const std::vector<Triangle>& triangles);
 
-// Codes crease_edges (sorted, unique, each a mesh edge) and corners (sorted, unique,
-// each < vertex_count) of a mesh with the given edges.
-std::vector<uint8_t> EncodeTags(uint32_t vertex_count, const std::vector<MeshEdge>& edges,
-                                const std::vector<Edge>& crease_edges,
-                                const std::vector<uint32_t>& corners);
+// What the tag stream carries.
+struct Tags {
+  std::vector<Edge> crease_edges;       // sorted, unique, each a mesh edge
+  std::vector<uint32_t> corners;        // sorted, unique, each < vertex count
+  bool has_feature_layer = false;
+  std::vector<FeaturePolyline> polylines;  // vertex indices < vertex count
+  std::vector<FeaturePair> pairs;          // polyline indices < polylines.size()
+};
 
-// Decodes the tags; kCorrupt (naming source_name) when the stream overruns or the
-// counts differ from the header's.
+// Codes tags of a mesh with vertex_count vertices and the given edges.
+std::vector<uint8_t> EncodeTags(uint32_t vertex_count, const std::vector<MeshEdge>& edges,
+                                const Tags& tags);
+
+// Decodes tags (the feature layer when has_feature_layer); kCorrupt (naming source_name)
+// when the stream overruns, names a vertex or polyline that does not exist, or its counts
+// differ from the header's.
 Status DecodeTags(std::span<const uint8_t> bytes, uint32_t vertex_count,
                   const std::vector<MeshEdge>& edges, uint32_t expected_crease_edges,
-                  uint32_t expected_corners, const std::string& source_name,
-                  std::vector<Edge>* crease_edges, std::vector<uint32_t>* corners);
+                  uint32_t expected_corners, bool has_feature_layer,
+                  const std::string& source_name, Tags* tags);
 
 }  // namespace sdvi::codec_internal

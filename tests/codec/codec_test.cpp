@@ -266,3 +266,63 @@ TEST_CASE("images that cannot be encoded and bad options are rejected", "[codec]
   bad.vertices[3].g = std::nanf("");
   CHECK(sdvi::EncodeDracoPayload(bad, {}).status().code() == StatusCode::kNonFinite);
 }
+
+TEST_CASE("the feature layer travels exactly in the payload", "[codec][features]") {
+  Image image = sdvi::testing::SyntheticGridImage(256, 200, 20, 16, 31, /*shuffle=*/true);
+  // A closed loop along the boundary (crease walks), a polyline with non-crease steps
+  // (escapes), a single vertex, an empty one; pairs with odd sharpness values.
+  sdvi::FeaturePolyline boundary;
+  boundary.closed = true;
+  {
+    // Walk the crease boundary from the lowest corner using the crease edges.
+    std::vector<std::vector<uint32_t>> adj(image.vertices.size());
+    for (const auto& e : image.crease_edges) {
+      adj[e.a].push_back(e.b);
+      adj[e.b].push_back(e.a);
+    }
+    uint32_t start = image.corners[0], prev = UINT32_MAX, cur = start;
+    for (int steps = 0; steps < 200; ++steps) {
+      boundary.vertices.push_back(cur);
+      uint32_t next = UINT32_MAX;
+      for (uint32_t n : adj[cur])
+        if (n != prev && (next == UINT32_MAX || n < next)) next = n;
+      if (next == UINT32_MAX || next == start) break;
+      prev = cur;
+      cur = next;
+    }
+  }
+  image.polylines.push_back(boundary);
+  image.polylines.push_back({{5, 17, 3, 200, 4}, false});
+  image.polylines.push_back({{42}, false});
+  image.polylines.push_back({{}, false});
+  image.pairs = {{0, 1, 0.3f}, {2, 4, 1.0f}, {3, 3, 0.0f}};
+  const Encoded e = MustEncode(image);
+  const Image decoded = MustDecode(e.payload);
+  Image expected = image;
+  REQUIRE(sdvi::RenumberVertices(e.new_index, &expected).ok());
+  CHECK(decoded.polylines == expected.polylines);
+  CHECK(decoded.pairs == expected.pairs);
+
+  // Without the feature layer in the payload, decoding leaves the caller's untouched.
+  CompressOptions options;
+  options.feature_layer = false;
+  const Encoded bare = MustEncode(image, options);
+  CHECK(bare.payload.size() < e.payload.size());
+  Image out;
+  out.polylines.push_back({{1, 2}, false});
+  REQUIRE(sdvi::DecodeDracoPayload(bare.payload, "bare", &out).ok());
+  CHECK(out.polylines.size() == 1);
+  CHECK(out.pairs.empty());
+}
+
+TEST_CASE("a feature layer naming missing vertices or polylines is rejected", "[codec][features]") {
+  Image image = sdvi::testing::SyntheticGridImage(50, 50, 6, 6);
+  image.polylines.push_back({{1, 99}, false});
+  CHECK(sdvi::EncodeDracoPayload(image, {}).status().code() == StatusCode::kIndexOutOfRange);
+  image.polylines.pop_back();
+  image.pairs.push_back({0, 7, 0.5f});
+  CHECK(sdvi::EncodeDracoPayload(image, {}).status().code() == StatusCode::kIndexOutOfRange);
+  CompressOptions options;
+  options.feature_layer = false;
+  CHECK(sdvi::EncodeDracoPayload(image, options).ok());
+}

@@ -37,3 +37,27 @@ TEST_CASE("range decoder reports a truncated stream as overrun", "[codec][range]
   for (int i = 0; i < 5000; ++i) (void)decoder.Decode(decode_model);
   CHECK(decoder.overrun());
 }
+
+TEST_CASE("range coder mixes direct bits and modelled bits", "[codec][range]") {
+  std::mt19937 rng(5);
+  std::vector<uint32_t> values;
+  std::vector<int> widths;
+  RangeEncoder encoder;
+  BitModel model;
+  for (int i = 0; i < 3000; ++i) {
+    const int width = static_cast<int>(rng() % 33);
+    const uint32_t value = width == 32 ? static_cast<uint32_t>(rng()) : static_cast<uint32_t>(rng() & ((1u << width) - 1));
+    values.push_back(value);
+    widths.push_back(width);
+    encoder.EncodeDirect(value, width);
+    encoder.Encode(model, (i % 3) == 0);
+  }
+  const std::vector<uint8_t> bytes = encoder.Finish();
+  RangeDecoder decoder(bytes);
+  BitModel decode_model;
+  for (size_t i = 0; i < values.size(); ++i) {
+    REQUIRE(decoder.DecodeDirect(widths[i]) == values[i]);
+    REQUIRE(decoder.Decode(decode_model) == ((i % 3) == 0));
+  }
+  CHECK_FALSE(decoder.overrun());
+}

@@ -3,13 +3,14 @@
 // The control mesh (vertices, triangles, crease edges, explicit corners) travels as one
 // byte string: a 40-byte header, a Draco mesh (POSITION = (x, y), COLOR = (R, G, B),
 // both quantized; optionally a GENERIC uint32 attribute holding original vertex ids) and
-// a tag stream (one adaptive-binary-range-coded bit per mesh edge: crease or not, then
-// one per vertex: explicit corner or not). The rest of the image (size, feature layer,
-// metadata) stays in the container.
+// a tag stream (adaptive binary range coding: one bit per mesh edge, crease or not; one
+// per vertex, explicit corner or not; then, by default, the feature layer as walks along
+// crease edges). The rest of the image (size, metadata; the feature layer when the
+// payload does not carry it) stays in the container.
 //
 // What travels exactly and what does not:
 //  - topology (which vertex triples form triangles, with their orientation), crease
-//    edges and corners: exactly;
+//    edges, corners and the feature layer (polylines, pairs, sharpness): exactly;
 //  - positions and colours: within half a quantization step (CompressionErrorBound);
 //  - vertex order: kept when CompressOptions::keep_vertex_order is set; otherwise the
 //    decoded order is Draco's traversal order and the encoder reports the renumbering
@@ -36,6 +37,7 @@ struct CompressOptions {
   int color_bits = 0;     // 1..30; 0 = from the colour range (DefaultColorBits)
   int speed = 0;          // Draco encoding/decoding speed 0 (smallest) .. 10 (fastest)
   bool keep_vertex_order = false;  // store original vertex ids (costs bytes)
+  bool feature_layer = true;       // carry polylines and pairs in the payload (compactly)
 };
 
 // Default position quantization: the smallest bit count whose step is at most 1/16
@@ -63,7 +65,8 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image,
                                                   std::vector<uint32_t>* new_index_of_vertex = nullptr);
 
 // Decodes a payload made by EncodeDracoPayload into image->vertices, triangles,
-// crease_edges and corners (other fields untouched). Errors name source_name:
+// crease_edges, corners and, when the payload carries it, polylines and pairs (other
+// fields untouched). Errors name source_name:
 // kTruncated (shorter than its header says), kCorrupt (bad magic, checksum, counts or
 // tag stream), kUnsupportedVersion (newer major version), kDecodeFailed (Draco refused
 // the mesh), kLimitExceeded (counts beyond max_vertices). On error *image is unchanged.
@@ -87,6 +90,7 @@ struct DracoPayloadInfo {
   uint64_t payload_bytes = 0;
   int position_bits = 0, color_bits = 0, speed = 0;
   bool has_vertex_ids = false;
+  bool has_feature_layer = false;
 };
 StatusOr<DracoPayloadInfo> InspectDracoPayload(std::span<const uint8_t> payload,
                                                const std::string& source_name);
