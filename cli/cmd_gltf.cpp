@@ -64,8 +64,10 @@ int RunExportGltf(const CommandArgs& raw) {
   if (!image.ok()) return ReportError(kCommand, image.status());
   auto exported = WriteGltf(out, *image, *options);
   if (!exported.ok()) {
-    return ReportError(kCommand, Status(exported.status().code(),
-                                        in + ": " + exported.status().message()));
+    // Write errors name the output already; the others concern the input image.
+    const Status& status = exported.status();
+    if (status.code() == StatusCode::kIoError) return ReportError(kCommand, status);
+    return ReportError(kCommand, Status(status.code(), in + ": " + status.message()));
   }
   if (!args->flag("--quiet")) {
     std::printf("%s: level %d, %u vertices, %u triangles, %zu bytes", out.c_str(),
