@@ -306,22 +306,53 @@ struct RowsOf {
 
 }  // namespace
 
-void StencilTable::Apply(const float* in, size_t in_stride, float* out, size_t out_stride, int dims) const {
-  constexpr int kBlock = 8;
-  const size_t n = rows();
-  for (int d0 = 0; d0 < dims; d0 += kBlock) {
-    const int nd = std::min(kBlock, dims - d0);
-    for (size_t i = 0; i < n; ++i) {
-      double sum[kBlock] = {};
-      for (uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
-        const float* src = in + indices[k] * in_stride + d0;
-        const double w = weights[k];
-        for (int c = 0; c < nd; ++c) sum[c] += w * src[c];
-      }
-      float* dst = out + i * out_stride + d0;
-      for (int c = 0; c < nd; ++c) dst[c] = static_cast<float>(sum[c]);
+namespace {
+
+// Rows [begin, end) of table applied to kDims coordinates starting at in / out (sums in
+// double, stored as float).
+template <int kDims>
+void ApplyRows(const StencilTable& table, size_t begin, size_t end, const float* in, size_t in_stride, float* out,
+               size_t out_stride) {
+  const uint32_t* offsets = table.offsets.data();
+  const uint32_t* indices = table.indices.data();
+  const float* weights = table.weights.data();
+  for (size_t i = begin; i < end; ++i) {
+    double sum[kDims] = {};
+    for (uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+      const float* src = in + indices[k] * in_stride;
+      const double w = weights[k];
+      for (int c = 0; c < kDims; ++c) sum[c] += w * src[c];
     }
+    float* dst = out + i * out_stride;
+    for (int c = 0; c < kDims; ++c) dst[c] = static_cast<float>(sum[c]);
   }
+}
+
+using ApplyFunction = void (*)(const StencilTable&, size_t, size_t, const float*, size_t, float*, size_t);
+constexpr ApplyFunction kApplyByDims[8] = {ApplyRows<1>, ApplyRows<2>, ApplyRows<3>, ApplyRows<4>,
+                                           ApplyRows<5>, ApplyRows<6>, ApplyRows<7>, ApplyRows<8>};
+
+}  // namespace
+
+void StencilTable::Apply(const float* in, size_t in_stride, float* out, size_t out_stride, int dims) const {
+  const size_t n = rows();
+  // Large tables are split over threads by rows (each row is written by one thread).
+  const unsigned threads = static_cast<unsigned>(
+      std::clamp<size_t>(n / 65536, 1, std::min(8u, std::max(1u, std::thread::hardware_concurrency()))));
+  auto run = [&](size_t begin, size_t end) {
+    for (int d0 = 0; d0 < dims; d0 += 8) {
+      const int nd = std::min(8, dims - d0);
+      kApplyByDims[nd - 1](*this, begin, end, in + d0, in_stride, out + d0, out_stride);
+    }
+  };
+  if (threads == 1) {
+    run(0, n);
+    return;
+  }
+  std::vector<std::thread> pool;
+  for (unsigned i = 1; i < threads; ++i) pool.emplace_back(run, n * i / threads, n * (i + 1) / threads);
+  run(0, n / threads);
+  for (std::thread& t : pool) t.join();
 }
 
 StatusOr<LimitSurface> BuildLimitSurface(const Image& image, const LimitSurfaceOptions& options) {
