@@ -455,6 +455,12 @@ TEST_CASE("bad inputs and options fail with specific codes") {
   speed.draco = true;
   speed.draco_speed = 11;
   CHECK(sdvi::EncodeGltf(image, speed).status().code() == StatusCode::kInvalidArgument);
+  Image nan = image;
+  nan.vertices[3].g = std::nanf("");
+  CHECK(sdvi::EncodeGltf(nan, Levels(1)).status().code() == StatusCode::kNonFinite);
+  nan.vertices[3].g = 0;
+  nan.vertices[5].x = INFINITY;
+  CHECK(sdvi::EncodeGltf(nan, Levels(1)).status().code() == StatusCode::kNonFinite);
   // Topology the engine refuses (an index out of range) keeps the engine's code.
   Image broken = image;
   broken.triangles[0].v[1] = 100000;

@@ -375,6 +375,15 @@ StatusOr<GltfExport> EncodeGltf(const Image& image, const GltfExportOptions& opt
   if (image.triangles.empty() || image.vertices.empty()) {
     return Status(StatusCode::kEmptyInput, "glTF export: the image has no triangles");
   }
+  for (size_t i = 0; i < image.vertices.size(); ++i) {
+    const Vertex& v = image.vertices[i];
+    for (float value : {v.x, v.y, v.r, v.g, v.b}) {
+      if (!std::isfinite(value)) {
+        return Status(StatusCode::kNonFinite, "glTF export: control vertex " + std::to_string(i) +
+                                                  " has a NaN or infinite coordinate or colour");
+      }
+    }
+  }
   GltfExport result;
   result.levels = options.levels >= 0 ? options.levels : DefaultGltfLevels(image);
   const uint64_t fine_triangles = uint64_t(image.triangles.size()) << (2 * result.levels);
@@ -430,6 +439,10 @@ StatusOr<GltfExport> EncodeGltf(const Image& image, const GltfExportOptions& opt
   asset_extras["sdvi"] = tinygltf::Value(std::move(sdvi_extras));
   model.asset.extras = tinygltf::Value(std::move(asset_extras));
   model.buffers.emplace_back();
+  // Room for the surface's attributes and indices (and the control mesh): no regrowth.
+  size_t reserve = mesh.positions.size() * 8 + mesh.indices.size() * 4 + 64;
+  if (options.control_mesh) reserve += image.vertices.size() * 24 + image.triangles.size() * 20 + 64;
+  model.buffers[0].data.reserve(reserve);
   model.scenes.emplace_back();
   model.scenes[0].name = "sdvi image";
   model.defaultScene = 0;
@@ -472,7 +485,7 @@ StatusOr<GltfExport> EncodeGltf(const Image& image, const GltfExportOptions& opt
   if (!writer.WriteGltfSceneToStream(&model, out, /*prettyPrint=*/!binary, binary)) {
     return Status(StatusCode::kEncodeFailed, "glTF export: tinygltf could not serialize the model");
   }
-  const std::string bytes = std::move(out).str();
+  const std::string bytes = std::move(out).str();  // C++20: moves the stream's buffer out
   result.bytes.assign(bytes.begin(), bytes.end());
   return result;
 }

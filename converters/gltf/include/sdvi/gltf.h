@@ -62,8 +62,9 @@ int DefaultGltfLevels(const Image& image);
 float SrgbToLinear(float srgb);
 
 // Builds the glTF file in memory. kEmptyInput without triangles, kInvalidArgument for bad
-// options, the engine's code for topology it cannot subdivide, kLimitExceeded past the
-// fine-triangle budget, kEncodeFailed when Draco or tinygltf fail.
+// options, kNonFinite for a NaN or infinite control value, the engine's code for topology
+// it cannot subdivide, kLimitExceeded past the fine-triangle budget, kEncodeFailed when
+// Draco or tinygltf fail.
 StatusOr<GltfExport> EncodeGltf(const Image& image, const GltfExportOptions& options);
 
 // The container a path asks for: ".glb" -> kBinary, ".gltf" -> kText, else kInvalidArgument.
