@@ -12,6 +12,7 @@
 #include "args.h"
 #include "commands.h"
 #include "io.h"
+#include "sdvi/codec.h"
 #include "sdvi/features.h"
 #include "sdvi/file_util.h"
 #include "sdvi/progress.h"
@@ -88,11 +89,6 @@ Status VectorizeCommand(const Args& args) {
   const std::string input = args.positional()[0];
   const std::optional<std::string> output = args.get("-o");
   if (!output) return Status(StatusCode::kInvalidArgument, "missing -o OUT.sdvi");
-  if (args.flag("--compress")) {
-    return Status(StatusCode::kInvalidArgument,
-                  "--compress is not available in this build yet (the Draco codec is not "
-                  "integrated): write a raw file and run `sdvi compress`");
-  }
   VectorizeOptions options;
   SDVI_ASSIGN_OR_RETURN(options.target_psnr, args.GetDouble("--target-psnr", 0));
   SDVI_ASSIGN_OR_RETURN(options.max_triangles, args.GetInt("--max-triangles", 0));
@@ -131,7 +127,12 @@ Status VectorizeCommand(const Args& args) {
   VectorizeResult& result = *vectorized;
   result.report.seconds.load = load_seconds;
 
-  SDVI_RETURN_IF_ERROR(SaveSdvi(*output, result.image));
+  if (args.flag("--compress")) {
+    const CompressOptions compress;  // the codec's defaults (quantisation from the image)
+    SDVI_RETURN_IF_ERROR(WriteImage(*output, result.image, &compress));
+  } else {
+    SDVI_RETURN_IF_ERROR(SaveSdvi(*output, result.image));
+  }
   std::error_code ec;
   const uint64_t file_size = std::filesystem::file_size(*output, ec);
 

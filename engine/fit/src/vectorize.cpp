@@ -99,6 +99,7 @@ Status CheckOptions(const VectorizeOptions& o) {
   if (o.iterations < 0) return bad("iterations must be >= 0");
   if (!(o.error_threshold >= 0) || !(o.error_blur_sigma >= 0) || !(o.spacing_factor > 0) ||
       !(o.min_spacing > 0) || !(o.initial_fraction >= 0 && o.initial_fraction <= 1) ||
+      !(o.growth > 0) ||
       !(o.max_feature_fraction >= 0 && o.max_feature_fraction <= 1)) {
     return bad("refinement constants out of range");
   }
@@ -212,7 +213,8 @@ StatusOr<VectorizeResult> Vectorize(const Raster& raster, const Raster* mask,
       room = std::min(room, (double(triangle_cap) - double(mesh.triangles.size())) / 2.0);
     }
     if (room < 1) break;
-    const size_t want = size_t(std::min(room, std::max(64.0, double(mesh.vertices.size()))));
+    const size_t want =
+        size_t(std::min(room, std::max(64.0, options.growth * double(mesh.vertices.size()))));
 
     phase("refine " + std::to_string(round));
     start = Clock::now();

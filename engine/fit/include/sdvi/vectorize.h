@@ -45,6 +45,7 @@ struct VectorizeOptions {
   double spacing_factor = 0.5;
   double min_spacing = 2.0;        // px
   double initial_fraction = 0.15;  // share of the vertex budget placed as the initial grid
+  double growth = 1.0;             // a round adds at most growth x the current vertex count
   // Features of at most this share of the vertex budget are kept (the longest first).
   double max_feature_fraction = 0.5;
   FeatureOptions features;
