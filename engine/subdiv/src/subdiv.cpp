@@ -448,27 +448,63 @@ StatusOr<RefinedMesh> RefineImage(const Image& image, const LimitSurfaceOptions&
     const double src[5] = {v.x, v.y, v.r, v.g, v.b};
     std::copy(src, src + 5, values.begin() + 5 * i);
   }
-  auto apply = [&values](const SparseRows& masks) {
-    std::vector<double> next(5 * masks.rows(), 0.0);
-    for (size_t i = 0; i < masks.rows(); ++i)
-      for (uint32_t k = masks.offsets[i]; k < masks.offsets[i + 1]; ++k)
-        for (int c = 0; c < 5; ++c) next[5 * i + c] += masks.weights[k] * values[5 * masks.indices[k] + c];
-    values = std::move(next);
+  // Row r of masks applied to the current values.
+  auto apply_row = [&values](const SparseRows& masks, size_t r, double* out) {
+    for (int c = 0; c < 5; ++c) out[c] = 0;
+    for (uint32_t k = masks.offsets[r]; k < masks.offsets[r + 1]; ++k) {
+      const double w = masks.weights[k];
+      const double* src = &values[5 * size_t{masks.indices[k]}];
+      for (int c = 0; c < 5; ++c) out[c] += w * src[c];
+    }
   };
-  for (int k = 0; k < options.levels; ++k) {
-    apply(RefinementMasks(mesh));
+  for (int k = 0; k + 1 < options.levels; ++k) {
+    const SparseRows masks = RefinementMasks(mesh);
+    std::vector<double> next;
+    internal::ReserveLarge(next, 5 * masks.rows());
+    next.resize(5 * masks.rows());
+    for (size_t r = 0; r < masks.rows(); ++r) apply_row(masks, r, &next[5 * r]);
+    values = std::move(next);
     mesh = mesh.Refine();
   }
-  if (options.to_limit) apply(LimitMasks(mesh));
-  FineSelection selection = SelectOutput(plan, mesh, false, options.levels);
+  // The last step, as in BuildLimitSurface: only the output vertices, without the level-r
+  // topology.
+  const bool refine_once = options.levels > 0;
+  FineSelection selection = SelectOutput(plan, mesh, refine_once, options.levels);
   RefinedMesh out;
   out.levels = options.levels;
+  internal::ReserveLarge(out.vertices, selection.vertices.size());
   out.vertices.resize(selection.vertices.size());
-  for (size_t i = 0; i < selection.vertices.size(); ++i) {
-    const double* v = &values[5 * size_t{selection.vertices[i]}];
-    out.vertices[i] = Vertex{static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]),
-                             static_cast<float>(v[3]), static_cast<float>(v[4])};
-  }
+  const SparseRows masks = refine_once ? RefinementMasks(mesh) : SparseRows{};
+  const SparseRows limit = options.to_limit ? LimitMasks(mesh) : SparseRows{};
+  const uint32_t nv = mesh.num_vertices();
+  auto run = [&](size_t begin, size_t end) {
+    SparseRows edge_limit;  // one row: the limit mask of an edge point
+    double v[5];
+    for (size_t i = begin; i < end; ++i) {
+      const uint32_t fine = selection.vertices[i];
+      if (!options.to_limit && !refine_once) {
+        std::copy(&values[5 * size_t{fine}], &values[5 * size_t{fine}] + 5, v);
+      } else if (!options.to_limit) {
+        apply_row(masks, fine, v);
+      } else if (fine < nv) {
+        apply_row(limit, fine, v);
+      } else {
+        edge_limit.indices.clear();
+        edge_limit.weights.clear();
+        AppendEdgeChildLimitMask(mesh, masks, fine - nv, edge_limit.indices, edge_limit.weights);
+        edge_limit.offsets.assign({0, static_cast<uint32_t>(edge_limit.indices.size())});
+        apply_row(edge_limit, 0, v);
+      }
+      out.vertices[i] = Vertex{static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]),
+                               static_cast<float>(v[3]), static_cast<float>(v[4])};
+    }
+  };
+  const size_t n = selection.vertices.size();
+  const unsigned threads = ThreadsFor(n);
+  std::vector<std::thread> pool;
+  for (unsigned i = 1; i < threads; ++i) pool.emplace_back(run, n * i / threads, n * (i + 1) / threads);
+  run(0, n / threads);
+  for (std::thread& t : pool) t.join();
   out.triangles = std::move(selection.triangles);
   out.parent_triangle = std::move(selection.parent_triangle);
   out.vertex_tags = std::move(selection.vertex_tags);
