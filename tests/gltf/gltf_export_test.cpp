@@ -124,7 +124,7 @@ double SignedArea2(const std::vector<float>& p, uint32_t a, uint32_t b, uint32_t
 
 }  // namespace
 
-TEST_CASE("SrgbToLinear decodes the sRGB transfer function and clamps") {
+TEST_CASE("gltf SrgbToLinear decodes the sRGB transfer function and clamps") {
   CHECK(sdvi::SrgbToLinear(0.0f) == 0.0f);
   CHECK(sdvi::SrgbToLinear(1.0f) == Approx(1.0f));
   CHECK(sdvi::SrgbToLinear(0.5f) == Approx(0.214041f).epsilon(1e-5));
@@ -134,7 +134,7 @@ TEST_CASE("SrgbToLinear decodes the sRGB transfer function and clamps") {
   CHECK(sdvi::SrgbToLinear(std::nanf("")) == 0.0f);
 }
 
-TEST_CASE("the default level makes fine triangles of about 1-2 source pixels, capped") {
+TEST_CASE("gltf default level makes fine triangles of about 1-2 source pixels within caps") {
   // 64x48 with 8 x 13 cells of 2 triangles: mean area 14.8 px^2; r = 1 leaves 3.7 px^2,
   // r = 2 gives 0.92 px^2.
   CHECK(sdvi::DefaultGltfLevels(sdvi::gltf_test::GradientWithCrease(64, 48, 8, 6)) == 2);
@@ -148,7 +148,7 @@ TEST_CASE("the default level makes fine triangles of about 1-2 source pixels, ca
   CHECK(sdvi::DefaultGltfLevels(Image{}) == 0);
 }
 
-TEST_CASE("the surface is one indexed mesh: positions in source pixels, y flipped, min/max exact") {
+TEST_CASE("gltf surface is one indexed mesh in source pixels with y flipped and exact min and max") {
   const Image image = sdvi::gltf_test::GradientWithCrease(64, 48);
   const Glb glb = Export(image, Levels(2));
   const json& doc = glb.doc;
@@ -190,7 +190,7 @@ TEST_CASE("the surface is one indexed mesh: positions in source pixels, y flippe
   CHECK(hi[1] == 48.0f);
 }
 
-TEST_CASE("every triangle is counter-clockwise seen from +Z, whatever the input winding") {
+TEST_CASE("gltf triangles are counter-clockwise seen from +Z whatever the input winding") {
   for (bool reverse : {false, true}) {
     const Image image = sdvi::gltf_test::GradientWithCrease(64, 48, 8, 6, reverse);
     const Glb glb = Export(image, Levels(2));
@@ -211,7 +211,7 @@ TEST_CASE("every triangle is counter-clockwise seen from +Z, whatever the input 
   }
 }
 
-TEST_CASE("COLOR_0 is the limit colour decoded from sRGB to linear light") {
+TEST_CASE("gltf COLOR_0 is the limit colour decoded from sRGB to linear light") {
   const Image image = sdvi::gltf_test::GradientWithCrease(64, 48);
   const Glb glb = Export(image, Levels(1));
   const json& prim = glb.doc["meshes"][0]["primitives"][0];
@@ -232,7 +232,7 @@ TEST_CASE("COLOR_0 is the limit colour decoded from sRGB to linear light") {
   if (r > 0.05f && r < 0.95f) CHECK(col[0] < r);
 }
 
-TEST_CASE("out-of-range control colours are clamped to 0..1 in COLOR_0") {
+TEST_CASE("gltf out-of-range control colours are clamped to 0..1 in COLOR_0") {
   Image image = sdvi::gltf_test::GradientWithCrease(32, 32, 2, 1);
   image.vertices[0].r = 400;
   image.vertices[1].g = -80;
@@ -244,7 +244,7 @@ TEST_CASE("out-of-range control colours are clamped to 0..1 in COLOR_0") {
   }
 }
 
-TEST_CASE("asset, unlit material and extras follow spec/GLTF.md") {
+TEST_CASE("gltf asset and unlit material and extras follow spec GLTF.md") {
   Image image = sdvi::gltf_test::GradientWithCrease(64, 48);
   image.metadata.push_back({"copyright", "CC0, the sdvi tests"});
   const Glb glb = Export(image, Levels(1));
@@ -269,7 +269,7 @@ TEST_CASE("asset, unlit material and extras follow spec/GLTF.md") {
             .doc["asset"]["copyright"] == "unspecified");
 }
 
-TEST_CASE("an object image has no triangles outside its domain") {
+TEST_CASE("gltf object image has no triangles outside its domain") {
   const Image image = sdvi::gltf_test::ConvexObject(80, 60);
   const Glb glb = Export(image, Levels(3));
   const json& prim = glb.doc["meshes"][0]["primitives"][0];
@@ -302,7 +302,7 @@ TEST_CASE("an object image has no triangles outside its domain") {
   CHECK(area <= std::abs(polygon_area) * (1 + 1e-6));
 }
 
-TEST_CASE("--draco writes KHR_draco_mesh_compression that decodes to the same mesh") {
+TEST_CASE("gltf draco option writes KHR_draco_mesh_compression that decodes to the same mesh") {
   const Image image = sdvi::gltf_test::GradientWithCrease(64, 48);
   const Glb plain = Export(image, Levels(2));
   GltfExportOptions options = Levels(2);
@@ -360,7 +360,7 @@ TEST_CASE("--draco writes KHR_draco_mesh_compression that decodes to the same me
   CHECK(exported->bytes.size() < plain.bin.size());
 }
 
-TEST_CASE("Draco quantization bits are configurable and validated") {
+TEST_CASE("gltf Draco quantization bits are configurable and validated") {
   const Image image = sdvi::gltf_test::GradientWithCrease(64, 48);
   GltfExportOptions coarse = Levels(2), fine = Levels(2);
   coarse.draco = fine.draco = true;
@@ -383,7 +383,7 @@ TEST_CASE("Draco quantization bits are configurable and validated") {
   }
 }
 
-TEST_CASE("--control-mesh adds a node with the control triangles and the crease LINES") {
+TEST_CASE("gltf control mesh option adds a node with the control triangles and crease LINES") {
   const Image image = sdvi::gltf_test::GradientWithCrease(64, 48, 4, 3);
   GltfExportOptions options = Levels(1);
   options.control_mesh = true;
@@ -413,7 +413,7 @@ TEST_CASE("--control-mesh adds a node with the control triangles and the crease 
   }
 }
 
-TEST_CASE("a .gltf text file embeds the same buffer as a data URI") {
+TEST_CASE("gltf text file embeds the same buffer as a data URI") {
   const Image image = sdvi::gltf_test::GradientWithCrease(32, 24, 2, 1);
   GltfExportOptions options = Levels(1);
   options.container = sdvi::GltfContainer::kText;
@@ -428,7 +428,7 @@ TEST_CASE("a .gltf text file embeds the same buffer as a data URI") {
   CHECK(doc["buffers"][0]["byteLength"] == ParseGlb(binary->bytes).bin.size());
 }
 
-TEST_CASE("export is deterministic") {
+TEST_CASE("gltf export is deterministic") {
   const Image image = sdvi::gltf_test::GradientWithCrease(64, 48);
   GltfExportOptions options = Levels(2);
   options.control_mesh = true;
@@ -442,7 +442,7 @@ TEST_CASE("export is deterministic") {
   }
 }
 
-TEST_CASE("bad inputs and options fail with specific codes") {
+TEST_CASE("gltf bad inputs and options fail with specific codes") {
   CHECK(sdvi::EncodeGltf(Image{}, {}).status().code() == StatusCode::kEmptyInput);
   const Image image = sdvi::gltf_test::GradientWithCrease(64, 48);
   CHECK(sdvi::EncodeGltf(image, Levels(-2)).status().code() == StatusCode::kInvalidArgument);
@@ -471,7 +471,7 @@ TEST_CASE("bad inputs and options fail with specific codes") {
   CHECK(sdvi::GltfContainerForPath("a.png").status().code() == StatusCode::kInvalidArgument);
 }
 
-TEST_CASE("WriteGltf writes atomically and leaves nothing behind on failure") {
+TEST_CASE("gltf WriteGltf writes atomically and leaves nothing behind on failure") {
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / ("sdvi_gltf_test_" + std::to_string(::getpid()));
   fs::create_directories(dir);
