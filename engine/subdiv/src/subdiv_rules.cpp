@@ -1,14 +1,27 @@
 #include "sdvi/subdiv_rules.h"
 
+#include <array>
 #include <cmath>
 #include <numbers>
 
 namespace sdvi::rules {
 
-double LoopAlpha(int valence) {
-  const double n = valence;
-  const double c = 3.0 + 2.0 * std::cos(2.0 * std::numbers::pi / n);
+namespace {
+double ComputeLoopAlpha(int valence) {
+  const double c = 3.0 + 2.0 * std::cos(2.0 * std::numbers::pi / valence);
   return 5.0 / 8.0 - c * c / 64.0;
+}
+}  // namespace
+
+double LoopAlpha(int valence) {
+  // The common valences come from a table computed once (the masks are asked for per vertex).
+  constexpr int kTabulated = 32;
+  static const std::array<double, kTabulated + 1> table = [] {
+    std::array<double, kTabulated + 1> t{};
+    for (int n = 1; n <= kTabulated; ++n) t[n] = ComputeLoopAlpha(n);
+    return t;
+  }();
+  return valence >= 1 && valence <= kTabulated ? table[valence] : ComputeLoopAlpha(valence);
 }
 
 SmoothVertexMask SmoothVertexRule(int valence) {
