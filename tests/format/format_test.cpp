@@ -184,7 +184,7 @@ TEST_CASE("truncated files give kTruncated, an empty file kEmptyInput") {
   }
 }
 
-TEST_CASE("every flipped byte is refused; in the payload it is kCorrupt") {
+TEST_CASE("every flipped byte is refused, in the vertex data as kCorrupt") {
   const std::vector<uint8_t> bytes = Encode(FeatureMesh());
   for (size_t i = 0; i < bytes.size(); ++i) {
     std::vector<uint8_t> damaged = bytes;
