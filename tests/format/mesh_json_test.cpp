@@ -36,7 +36,11 @@ Image AwkwardMesh() {
   auto id = [](uint32_t x, uint32_t y) { return y * 6 + x; };
   FeaturePolyline open{{id(1, 1), id(2, 1), id(3, 1)}, false};
   FeaturePolyline open2{{id(1, 2), id(2, 2), id(3, 2)}, false};
-  FeaturePolyline closed{{id(0, 0), id(5, 0), id(5, 5), id(0, 5)}, true};
+  FeaturePolyline closed{{}, true};  // the boundary loop (tagged crease by Grid)
+  for (uint32_t x = 0; x < 5; ++x) closed.vertices.push_back(id(x, 0));
+  for (uint32_t y = 0; y < 5; ++y) closed.vertices.push_back(id(5, y));
+  for (uint32_t x = 5; x > 0; --x) closed.vertices.push_back(id(x, 5));
+  for (uint32_t y = 5; y > 0; --y) closed.vertices.push_back(id(0, y));
   for (const auto* p : {&open, &open2})
     for (size_t i = 0; i + 1 < p->vertices.size(); ++i)
       image.crease_edges.push_back(Edge::Of(p->vertices[i], p->vertices[i + 1]));
