@@ -4,7 +4,8 @@
 //   sdvi_gltf_fixture gltf   gradient|object W H OUT.glb|OUT.gltf [--draco] [--control-mesh] [--levels r]
 //   sdvi_gltf_fixture compare SHOT.png OURS.png MIN_PSNR [SIDE_BY_SIDE.png]
 // compare prints the metrics of sdvi::CompareImages (PSNR over the pixels both images
-// cover) and fails (exit 1) below MIN_PSNR; SIDE_BY_SIDE.png shows SHOT | OURS | 4 x |difference| (magenta: covered by one only).
+// cover) and fails (exit 1) below MIN_PSNR or when over 1% of the pixels are covered by
+// one image only; SIDE_BY_SIDE.png shows SHOT | OURS | 4 x |difference| (magenta: covered by one only).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -23,6 +24,10 @@
 #include "test_images.h"
 
 namespace {
+
+// compare fails when more pixels than this share of the common domain are covered by
+// one image only.
+constexpr double kMaxCoverageDisagreement = 0.01;
 
 int Usage() {
   std::fprintf(stderr,
@@ -119,6 +124,14 @@ int Compare(const std::string& shot_path, const std::string& ours_path, double m
   }
   if (metrics->psnr < min_psnr) {
     std::fprintf(stderr, "compare: PSNR %.2f dB is below %.2f dB\n", metrics->psnr, min_psnr);
+    return 1;
+  }
+  // The domains must agree too (object images: nothing drawn outside the domain); the
+  // levels of the two may differ, which moves the limit boundary by a fraction of a pixel.
+  if (double(disagree) > kMaxCoverageDisagreement * double(std::max<uint64_t>(metrics->pixels, 1))) {
+    std::fprintf(stderr, "compare: %llu pixels are covered by one image only (> %.1f%% of %llu)\n",
+                 (unsigned long long)disagree, 100 * kMaxCoverageDisagreement,
+                 (unsigned long long)metrics->pixels);
     return 1;
   }
   return 0;

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # ctest gltf_viewer_three: a real viewer shows the image. For a full-frame image (at 2x)
-# and an object image (at 1x), `sdvi export-gltf` (plain and --draco) is loaded by
+# and an object image (at 1x), `sdvi export-gltf` (plain .glb, --draco .glb, and
+# --draco --control-mesh .gltf, whose control mesh lies beside the frame) is loaded by
 # three.js in headless Chromium with an orthographic camera framing the image, and each
 # screenshot must match `sdvi render` of the same .sdvi at the same size with PSNR >= 30 dB.
 #   viewer_test.sh SDVI FIXTURE REPO_ROOT WORK_DIR
@@ -38,9 +39,13 @@ for spec in "gradient 96 64 2" "object 96 64 1"; do
   run_cli "$work/$kind.render.log" render "$work/$kind.sdvi" -o "$work/${kind}_sdvi.png" \
     --width "$ow" --height "$oh"
   viewer_args+=(--width "$ow" --height "$oh")
-  for variant in plain draco; do
-    flags=(); [ $variant = draco ] && flags=(--draco)
-    glb="$work/${kind}_$variant.glb"
+  for variant in plain draco control; do
+    case $variant in
+      plain) flags=(); ext=glb ;;
+      draco) flags=(--draco); ext=glb ;;
+      control) flags=(--draco --control-mesh); ext=gltf ;;  # the control mesh sits outside the frame
+    esac
+    glb="$work/${kind}_$variant.$ext"
     run_cli "$work/${kind}_$variant.export.log" export-gltf "$work/$kind.sdvi" -o "$glb" "${flags[@]}"
     viewer_args+=("$glb" -o "$work/${kind}_${variant}_three.png")
     cases+=("$kind $variant ${ow}x$oh")
