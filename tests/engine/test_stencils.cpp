@@ -168,3 +168,26 @@ TEST_CASE("A region's fine mesh equals the same part of the whole", "[stencils]"
     CHECK(direct->crease_edges == region->crease_edges);
   }
 }
+
+TEST_CASE("The stencil table does not depend on the number of threads", "[stencils]") {
+  Image image = test::GridImage(30, 30, 3, 8);
+  for (int i = 2; i < 28; ++i) image.crease_edges.push_back(Edge::Of(test::GridIndex(30, i, 15), test::GridIndex(30, i + 1, 15)));
+  std::sort(image.crease_edges.begin(), image.crease_edges.end());
+  LimitSurfaceOptions options;
+  options.levels = 3;
+  options.threads = 1;
+  auto one = BuildLimitSurface(image, options);
+  options.threads = 3;
+  auto three = BuildLimitSurface(image, options);
+  REQUIRE(one.ok());
+  REQUIRE(three.ok());
+  REQUIRE(one->stencils.rows() > 3 * 16384);
+  CHECK(one->stencils.offsets == three->stencils.offsets);
+  CHECK(one->stencils.indices == three->stencils.indices);
+  CHECK(one->stencils.weights == three->stencils.weights);
+  auto direct_one = RefineImage(image, options);
+  options.threads = 1;
+  auto direct_three = RefineImage(image, options);
+  REQUIRE(direct_one.ok());
+  CHECK(direct_one->vertices == direct_three->vertices);
+}

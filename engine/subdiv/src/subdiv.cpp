@@ -238,19 +238,20 @@ void ComposeBlock(size_t begin, size_t end, const MaskRow& mask_row, const Spars
   }
 }
 
-// Threads for a composition of num_rows rows (one for small ones).
-unsigned ThreadsFor(size_t num_rows) {
-  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
-  return static_cast<unsigned>(std::clamp<size_t>(num_rows / 16384, 1, std::min(hw, 8u)));
+// Threads for num_rows rows of work (one for small jobs); requested = 0: the hardware's.
+unsigned ThreadsFor(size_t num_rows, int requested) {
+  const unsigned hw = requested > 0 ? static_cast<unsigned>(requested)
+                                    : std::min(8u, std::max(1u, std::thread::hardware_concurrency()));
+  return static_cast<unsigned>(std::clamp<size_t>(num_rows / 16384, 1, hw));
 }
 
 // All rows of (mask x previous) into CSR arrays, in parallel blocks; deterministic
 // whatever the number of threads.
 template <typename Weight, typename MaskRow>
-void Compose(size_t num_rows, const MaskRow& mask_row, const SparseRows* previous, uint32_t num_columns,
-             const std::vector<uint32_t>& index_map, std::vector<uint32_t>& offsets,
+void Compose(int requested_threads, size_t num_rows, const MaskRow& mask_row, const SparseRows* previous,
+             uint32_t num_columns, const std::vector<uint32_t>& index_map, std::vector<uint32_t>& offsets,
              std::vector<uint32_t>& indices, std::vector<Weight>& weights) {
-  const unsigned threads = ThreadsFor(num_rows);
+  const unsigned threads = ThreadsFor(num_rows, requested_threads);
   std::vector<RowBlock<Weight>> blocks(threads);
   // Block 0 reserves room for every block's entries, so that the others are appended to it
   // without a new allocation (untouched reserved pages cost nothing).
@@ -366,7 +367,7 @@ StatusOr<LimitSurface> BuildLimitSurface(const Image& image, const LimitSurfaceO
   for (int k = 0; k + 1 < options.levels; ++k) {
     SparseRows next;
     const SparseRows masks = RefinementMasks(mesh);
-    Compose(masks.rows(), RowsOf{masks}, previous, num_base, {}, next.offsets, next.indices, next.weights);
+    Compose(options.threads, masks.rows(), RowsOf{masks}, previous, num_base, {}, next.offsets, next.indices, next.weights);
     stencils = std::move(next);
     previous = &stencils;
     mesh = mesh.Refine();
@@ -390,15 +391,15 @@ StatusOr<LimitSurface> BuildLimitSurface(const Image& image, const LimitSurfaceO
       identity.weights.push_back(1.0);
       identity.offsets[v + 1] = v + 1;
     }
-    Compose(num_rows, RowsOf{identity, &selection.vertices}, nullptr, num_base, plan.vertex_map, table.offsets,
+    Compose(options.threads, num_rows, RowsOf{identity, &selection.vertices}, nullptr, num_base, plan.vertex_map, table.offsets,
             table.indices, table.weights);
   } else if (!refine_once) {
     const SparseRows limit = LimitMasks(mesh);
-    Compose(num_rows, RowsOf{limit, &selection.vertices}, nullptr, num_base, plan.vertex_map, table.offsets,
+    Compose(options.threads, num_rows, RowsOf{limit, &selection.vertices}, nullptr, num_base, plan.vertex_map, table.offsets,
             table.indices, table.weights);
   } else if (!options.to_limit) {
     const SparseRows masks = RefinementMasks(mesh);
-    Compose(num_rows, RowsOf{masks, &selection.vertices}, previous, num_base, plan.vertex_map, table.offsets,
+    Compose(options.threads, num_rows, RowsOf{masks, &selection.vertices}, previous, num_base, plan.vertex_map, table.offsets,
             table.indices, table.weights);
   } else {
     const SparseRows masks = RefinementMasks(mesh);
@@ -416,7 +417,7 @@ StatusOr<LimitSurface> BuildLimitSurface(const Image& image, const LimitSurfaceO
         s.MergeRow(nv, static_cast<uint32_t>(r));
       }
     };
-    Compose(num_rows, limit_row, previous, num_base, plan.vertex_map, table.offsets, table.indices,
+    Compose(options.threads, num_rows, limit_row, previous, num_base, plan.vertex_map, table.offsets, table.indices,
             table.weights);
   }
   surface.triangles = std::move(selection.triangles);
@@ -500,7 +501,7 @@ StatusOr<RefinedMesh> RefineImage(const Image& image, const LimitSurfaceOptions&
     }
   };
   const size_t n = selection.vertices.size();
-  const unsigned threads = ThreadsFor(n);
+  const unsigned threads = ThreadsFor(n, options.threads);
   std::vector<std::thread> pool;
   for (unsigned i = 1; i < threads; ++i) pool.emplace_back(run, n * i / threads, n * (i + 1) / threads);
   run(0, n / threads);

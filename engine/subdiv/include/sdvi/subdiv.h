@@ -35,6 +35,9 @@ struct LimitSurfaceOptions {
   std::vector<uint32_t> control_triangles;
   // Refuses (kLimitExceeded) to build more fine triangles than this.
   uint64_t max_fine_triangles = uint64_t{1} << 25;
+  // Worker threads for large builds: 0 = the hardware's (at most 8). The result does not
+  // depend on it.
+  int threads = 0;
 };
 
 // Levels accepted by BuildLimitSurface and RefineImage: 0 .. kMaxLevels.
