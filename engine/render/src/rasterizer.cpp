@@ -6,11 +6,30 @@
 #include <limits>
 #include <vector>
 
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+
 #include "scan_convert.h"
 #include "sdvi/render.h"
 
 namespace sdvi {
 namespace render_internal {
+
+template <typename T>
+void AssignZeroedLarge(std::vector<T>& v, size_t n) {
+  v.clear();
+  v.shrink_to_fit();
+  v.reserve(n);
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  constexpr uintptr_t kHuge = uintptr_t(1) << 21;
+  const uintptr_t begin = (reinterpret_cast<uintptr_t>(v.data()) + kHuge - 1) & ~(kHuge - 1);
+  const uintptr_t end = reinterpret_cast<uintptr_t>(v.data() + n) & ~(kHuge - 1);
+  if (n * sizeof(T) >= 4 * kHuge && end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+#endif
+  v.resize(n);  // value-initialised: zero
+}
+template void AssignZeroedLarge<float>(std::vector<float>&, size_t);
 
 std::vector<FixedPoint> ToFixedAll(const std::vector<Vertex>& fine, const Viewport& vp, int threads) {
   std::vector<FixedPoint> out(fine.size());
@@ -147,7 +166,9 @@ void AntialiasBoundary(const std::vector<Edge>& boundary, const std::vector<Vert
 Raster RenderFineMesh(const std::vector<Triangle>& triangles, const std::vector<Vertex>& fine,
                       const Viewport& viewport, const std::vector<Edge>* boundary, int threads) {
   if (!ValidViewport(viewport)) return Raster();
-  Raster out(viewport.width, viewport.height, 4);
+  Raster out;
+  out.width = viewport.width, out.height = viewport.height, out.channels = 4;
+  AssignZeroedLarge(out.data, size_t(viewport.width) * viewport.height * 4);
   const std::vector<FixedPoint> pts = ToFixedAll(fine, viewport, threads);
   const uint32_t nv = uint32_t(fine.size());
   const int width = viewport.width;
@@ -162,14 +183,25 @@ Raster RenderFineMesh(const std::vector<Triangle>& triangles, const std::vector<
       if (!SetupTriangle(a, b, c, width, viewport.height, s)) continue;
       const double inv_area = 1.0 / double(s.area);
       const Vertex* cv[3] = {&fine[v[s.slot[0]]], &fine[v[s.slot[1]]], &fine[v[s.slot[2]]]};
-      ScanTriangle(s, row0, row1, [&](int i, int j, int64_t e0, int64_t e1, int64_t e2) {
-        float* px = data + (size_t(j) * width + i) * 4;
-        if (px[3] != 0) return;  // lowest fine triangle index wins
-        const double w0 = double(e0) * inv_area, w1 = double(e1) * inv_area, w2 = double(e2) * inv_area;
-        px[0] = Clamp255(w0 * cv[0]->r + w1 * cv[1]->r + w2 * cv[2]->r);
-        px[1] = Clamp255(w0 * cv[0]->g + w1 * cv[1]->g + w2 * cv[2]->g);
-        px[2] = Clamp255(w0 * cv[0]->b + w1 * cv[1]->b + w2 * cv[2]->b);
-        px[3] = 1.0f;
+      // Colour is affine in the pixel index along a row: exact weights at the span start,
+      // then a constant step per pixel.
+      double step[3];
+      for (int ch = 0; ch < 3; ++ch) {
+        const float Vertex::*m = ch == 0 ? &Vertex::r : ch == 1 ? &Vertex::g : &Vertex::b;
+        step[ch] = (double(StepX(s, 0)) * (cv[0]->*m) + double(StepX(s, 1)) * (cv[1]->*m) +
+                    double(StepX(s, 2)) * (cv[2]->*m)) * inv_area;
+      }
+      ScanSpans(s, row0, row1, [&](int j, int i_begin, int i_end, const int64_t* e) {
+        const double w0 = double(e[0]) * inv_area, w1 = double(e[1]) * inv_area, w2 = double(e[2]) * inv_area;
+        double r = w0 * cv[0]->r + w1 * cv[1]->r + w2 * cv[2]->r;
+        double g = w0 * cv[0]->g + w1 * cv[1]->g + w2 * cv[2]->g;
+        double b = w0 * cv[0]->b + w1 * cv[1]->b + w2 * cv[2]->b;
+        float* px = data + (size_t(j) * width + i_begin) * 4;
+        for (int i = i_begin; i <= i_end; ++i, px += 4, r += step[0], g += step[1], b += step[2]) {
+          if (px[3] != 0) continue;  // lowest fine triangle index wins
+          px[0] = Clamp255(r), px[1] = Clamp255(g), px[2] = Clamp255(b);
+          px[3] = 1.0f;
+        }
       });
     }
   });

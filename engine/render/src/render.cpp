@@ -33,8 +33,10 @@ Status CheckViewport(const Viewport& vp) {
 
 }  // namespace
 
-int ChooseRenderLevels(const Image& image, const RenderOptions& options) {
-  if (options.levels >= 0) return options.levels;
+namespace {
+
+// The level from the scale alone (see RenderOptions).
+int LevelForScale(const Image& image, const RenderOptions& options) {
   double sum = 0;
   size_t count = 0;
   const size_t nv = image.vertices.size();
@@ -49,13 +51,27 @@ int ChooseRenderLevels(const Image& image, const RenderOptions& options) {
     }
   }
   const int lo = std::max(0, options.min_levels);
-  const int hi = std::max(lo, options.max_levels);
+  const int hi = std::min(kMaxLevels, std::max(lo, options.max_levels));
   if (count == 0 || !(options.max_fine_edge_px > 0)) return lo;
   const double scale = std::max(options.viewport.scale_x, options.viewport.scale_y);
   double edge = sum / double(count) * scale;  // mean control edge, output pixels
   int r = 0;
   while (r < hi && edge > options.max_fine_edge_px) edge *= 0.5, ++r;
-  return std::clamp(r, lo, hi);
+  return std::clamp(r, std::min(lo, hi), hi);
+}
+
+// The automatic level, lowered until the region refines to at most kMaxFineTriangles.
+int LevelWithinBudget(int level, size_t region_triangles) {
+  while (level > 0 && double(region_triangles) * std::pow(4.0, level) > kMaxFineTriangles) --level;
+  return level;
+}
+
+}  // namespace
+
+int ChooseRenderLevels(const Image& image, const RenderOptions& options) {
+  if (options.levels >= 0) return options.levels;
+  return LevelWithinBudget(LevelForScale(image, options),
+                           ControlTrianglesInViewport(image, options.viewport, kRegionMarginPx).size());
 }
 
 std::vector<uint32_t> ControlTrianglesInViewport(const Image& image, const Viewport& vp, double margin_px) {
@@ -108,18 +124,19 @@ StatusOr<Raster> Render(const Image& image, const RenderOptions& options) {
   if (options.levels > kMaxLevels)
     return Status(StatusCode::kInvalidArgument, "render: --levels " + std::to_string(options.levels) +
                                                     " is above the maximum " + std::to_string(kMaxLevels));
-  const int levels = std::min(ChooseRenderLevels(image, options), kMaxLevels);
-
-  LimitSurfaceOptions lso;
-  lso.levels = levels;
-  lso.to_limit = true;
   std::vector<uint32_t> region = ControlTrianglesInViewport(image, vp, kRegionMarginPx);
   if (region.empty()) return Raster(vp.width, vp.height, 4);  // nothing reaches the viewport
+  const int levels =
+      options.levels >= 0 ? options.levels : LevelWithinBudget(LevelForScale(image, options), region.size());
   const double fine_estimate = double(region.size()) * std::pow(4.0, levels);
   if (fine_estimate > kMaxFineTriangles)
     return Status(StatusCode::kLimitExceeded,
                   "render: level " + std::to_string(levels) + " gives ~" + std::to_string(int64_t(fine_estimate)) +
                       " fine triangles (limit 2^25); lower --levels or render a smaller region");
+  LimitSurfaceOptions lso;
+  lso.levels = levels;
+  lso.to_limit = true;
+  lso.max_fine_triangles = uint64_t(kMaxFineTriangles);
   if (region.size() < image.triangles.size()) lso.control_triangles = std::move(region);
 
   // One evaluation of this topology: direct refinement is cheaper than building stencils.
