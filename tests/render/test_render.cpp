@@ -118,11 +118,14 @@ TEST_CASE("A sharp pair renders a step whose width shrinks with sharpness", "[re
 
 TEST_CASE("The x4 render box-downsampled matches the x1 render (>= 40 dB) with features", "[render][scale]") {
   const Image img = FeatureImage();
-  auto x1 = Render(img, AtScale(img, 1));
-  auto x4 = Render(img, AtScale(img, 4));
+  // One-pixel fine triangles at both scales: different levels (3 and 5).
+  RenderOptions o1 = AtScale(img, 1), o4 = AtScale(img, 4);
+  o1.max_fine_edge_px = o4.max_fine_edge_px = 1;
+  auto x1 = Render(img, o1);
+  auto x4 = Render(img, o4);
   REQUIRE(x1.ok());
   REQUIRE(x4.ok());
-  CHECK(ChooseRenderLevels(img, AtScale(img, 4)) > ChooseRenderLevels(img, AtScale(img, 1)));
+  CHECK(ChooseRenderLevels(img, o4) > ChooseRenderLevels(img, o1));
   auto m = CompareImages(BoxDownsample(*x4, 4), *x1);
   REQUIRE(m.ok());
   INFO("PSNR " << m->psnr << " MSSIM " << m->mssim);
@@ -152,9 +155,14 @@ TEST_CASE("Rendering a region equals the same crop of the full render", "[render
 TEST_CASE("The level grows with the output scale and respects the bounds", "[render][levels]") {
   const Image img = FeatureImage();  // mean control edge ~5 px
   RenderOptions o = AtScale(img, 1);
-  CHECK(ChooseRenderLevels(img, o) == 3);  // 5 px -> 0.6 px after 3 halvings
+  CHECK(ChooseRenderLevels(img, o) == 2);  // default: fine edges <= 8 px, at least the fit's level
   o.viewport.scale_x = o.viewport.scale_y = 8;
-  CHECK(ChooseRenderLevels(img, o) == 6);
+  CHECK(ChooseRenderLevels(img, o) == 3);  // 40 px -> 5 px
+  o.max_fine_edge_px = 1;
+  CHECK(ChooseRenderLevels(img, o) == 6);  // 40 px -> 0.6 px
+  o.viewport.scale_x = o.viewport.scale_y = 1;
+  CHECK(ChooseRenderLevels(img, o) == 3);  // 5 px -> 0.6 px
+  o.viewport.scale_x = o.viewport.scale_y = 8;
   o.max_fine_edge_px = 4;
   CHECK(ChooseRenderLevels(img, o) == 4);
   o.viewport.scale_x = o.viewport.scale_y = 0.1;
