@@ -302,6 +302,7 @@ int main(int argc, char** argv) {
                     1e3 * theirs.seconds[op], ours_rate, theirs_rate, theirs_rate > 0 ? ours_rate / theirs_rate : 0.0,
                     ours.peak_kib / 1024.0, theirs.peak_kib / 1024.0);
       }
+      std::fflush(stdout);
     }
   }
   return 0;

@@ -17,6 +17,10 @@ namespace {
 // depends on control vertices at most two rings away; one more for safety).
 constexpr int kRegionMarginRings = 3;
 
+// Above this many fine triangles a stencil table could overflow its uint32 offsets
+// (about 20 weights a fine triangle), whatever max_fine_triangles says.
+constexpr uint64_t kHardMaxFineTriangles = uint64_t{1} << 27;
+
 // The control mesh a build refines, and which of its triangles the output keeps.
 struct RefinementPlan {
   TaggedMesh base;
@@ -72,12 +76,12 @@ StatusOr<RefinementPlan> MakePlan(const Image& image, const LimitSurfaceOptions&
     plan.base = std::move(mesh);
   }
   const uint64_t fine = static_cast<uint64_t>(plan.base.num_triangles()) << (2 * options.levels);
-  if (fine > options.max_fine_triangles)
+  if (fine > std::min(options.max_fine_triangles, kHardMaxFineTriangles))
     return Status(StatusCode::kLimitExceeded,
                   std::to_string(region_size) + " control triangles at level " +
                       std::to_string(options.levels) + " need " + std::to_string(fine) +
                       " fine triangles (with margin); the limit is " +
-                      std::to_string(options.max_fine_triangles));
+                      std::to_string(std::min(options.max_fine_triangles, kHardMaxFineTriangles)));
   return plan;
 }
 

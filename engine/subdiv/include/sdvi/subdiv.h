@@ -33,7 +33,8 @@ struct LimitSurfaceOptions {
   // When non-empty, only fine triangles descending from these control triangles are
   // produced (region rendering); stencils still refer to all control vertices.
   std::vector<uint32_t> control_triangles;
-  // Refuses (kLimitExceeded) to build more fine triangles than this.
+  // Refuses (kLimitExceeded) to build more fine triangles than this (never more than
+  // 2^27, which keeps stencil offsets within uint32).
   uint64_t max_fine_triangles = uint64_t{1} << 25;
   // Worker threads for large builds: 0 = the hardware's (at most 8). The result does not
   // depend on it.
