@@ -61,6 +61,8 @@ bool ApplyOverrides(const Config& c, sdvi::VectorizeOptions& o) {
     else if (name == "max_feature_fraction") o.max_feature_fraction = v;
     else if (name == "detect_edges") o.features.detect_edges = v != 0;
     else if (name == "rho") o.mesh.rho = float(v);
+    else if (name == "max_edge") o.mesh.max_edge = float(v);
+    else if (name == "min_angle") o.mesh.min_angle_deg = float(v);
     else if (name == "regularization") o.fit.regularization = v;
     else if (name == "levels") o.fit.surface.levels = int(v);
     else {

@@ -1,5 +1,6 @@
-// Interior sample placement: initial grid, error map, greedy far-apart selection.
-#include "refine.h"
+// Interior sample placement (vectorize.h building blocks): initial grid, error map,
+// greedy far-apart selection.
+#include "sdvi/vectorize.h"
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>

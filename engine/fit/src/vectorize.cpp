@@ -8,7 +8,6 @@
 #include <numeric>
 #include <string>
 
-#include "refine.h"
 #include "sdvi/progress.h"
 #include "sdvi/render.h"
 
@@ -178,15 +177,29 @@ StatusOr<VectorizeResult> Vectorize(const Raster& raster, const Raster* mask,
   seconds.refine += SecondsSince(start);
 
   start = Clock::now();
+  ControlMeshOptions mesh_options = options.mesh;
+  if (mesh_options.max_edge <= 0) {
+    // CDT size bound from the budget: a few times the mean vertex spacing, so that the
+    // interior samples, not the size bound, decide the density.
+    mesh_options.max_edge = float(4.0 * std::sqrt(double(domain_pixels) / vertex_budget));
+  }
+  const double diagonal = std::hypot(double(width), double(height));
   Image mesh;
-  for (int attempt = 0;; ++attempt) {
-    SDVI_ASSIGN_OR_RETURN(mesh, BuildControlMesh(width, height, curves, samples, options.mesh));
-    if (triangle_cap == 0 || mesh.triangles.size() <= triangle_cap || attempt >= 12) break;
-    // Over budget before any refinement: fewer grid samples first, then fewer features.
+  for (;;) {
+    SDVI_ASSIGN_OR_RETURN(mesh, BuildControlMesh(width, height, curves, samples, mesh_options));
+    if (triangle_cap == 0 || mesh.triangles.size() <= triangle_cap) break;
+    // Over budget before any refinement: fewer grid samples first, then fewer features,
+    // then a looser size bound.
     if (!samples.empty()) {
       samples.resize(samples.size() / 2);
     } else if (!DropShorterHalf(curves)) {
-      break;
+      if (mesh_options.max_edge >= diagonal) {
+        return Status(StatusCode::kLimitExceeded,
+                      "vectorize: max triangles " + std::to_string(triangle_cap) +
+                          " is below what the domain boundary alone needs (" +
+                          std::to_string(mesh.triangles.size()) + " triangles)");
+      }
+      mesh_options.max_edge *= 2;
     }
   }
   seconds.triangulate += SecondsSince(start);
@@ -233,7 +246,7 @@ StatusOr<VectorizeResult> Vectorize(const Raster& raster, const Raster* mask,
     for (int attempt = 0; attempt < 5 && !added.empty(); ++attempt) {
       next = samples;
       next.insert(next.end(), added.begin(), added.end());
-      SDVI_ASSIGN_OR_RETURN(candidate, BuildControlMesh(width, height, curves, next, options.mesh));
+      SDVI_ASSIGN_OR_RETURN(candidate, BuildControlMesh(width, height, curves, next, mesh_options));
       if (triangle_cap == 0 || candidate.triangles.size() <= triangle_cap) {
         accepted = true;
         break;

@@ -15,7 +15,10 @@
 // or when no candidate is left.
 //
 // Budget. max_triangles (when > 0) is a hard cap: a round that would exceed it is redone
-// with fewer (the worst-error) samples. Without it the budget is the vertex count
+// with fewer (the worst-error) samples; an initial mesh over it is rebuilt with fewer grid
+// samples, then fewer (the shorter) features, then a looser CDT size bound, and when even
+// the boundary alone needs more triangles the result is kLimitExceeded. The CDT size
+// bound (mesh.max_edge = 0) is 4 x sqrt(domain pixels / vertex budget). Without it the budget is the vertex count
 // domain pixels / compression_ratio, i.e. about twice as many triangles.
 #pragma once
 
@@ -42,7 +45,7 @@ struct VectorizeOptions {
   // Refinement constants (header comment).
   double error_threshold = 2.0;    // RMS over R, G, B, 8-bit units
   double error_blur_sigma = 1.0;   // px
-  double spacing_factor = 0.5;
+  double spacing_factor = 0.25;
   double min_spacing = 2.0;        // px
   double initial_fraction = 0.15;  // share of the vertex budget placed as the initial grid
   double growth = 1.0;             // a round adds at most growth x the current vertex count
@@ -106,6 +109,34 @@ StatusOr<VectorizeResult> Vectorize(const Raster& raster, const Raster* mask,
 // A per-pixel error picture for people (paper Fig. 10): |difference| summed over R, G, B,
 // amplified 4x, drawn black (exact) to white; pixels outside the domain are mid grey.
 Raster ErrorImage(const Raster& reconstruction, const Raster& reference);
+
+// ---- Building blocks of the refinement (DESIGN.md 6.4 and 6.6), used by Vectorize ----
+
+// Pixels where no interior sample may go: outside the domain, or within `clearance` px of a
+// crease edge of mesh (the pairs' strips and the feature polylines themselves), or of a
+// feature curve when mesh is null. One byte per pixel, 1 = blocked.
+std::vector<uint8_t> BlockedPixels(const Raster& target, const Raster* mask, const Image* mesh,
+                                   const std::vector<FeatureCurve>& curves, double clearance);
+
+// Interior samples on a staggered (hexagonal) grid of the given spacing, at unblocked pixel
+// centres only.
+std::vector<Point2> GridSamples(int width, int height, double spacing,
+                                const std::vector<uint8_t>& blocked);
+
+// Per-pixel squared error sum over R, G, B between the reconstruction (RGBA) and target,
+// averaged by a Gaussian of sigma px (sigma <= 0: none); -1 outside the fitting domain.
+std::vector<float> ErrorMap(const Raster& reconstruction, const Raster& target, const Raster* mask,
+                            double sigma);
+
+// Greedy far-apart selection (DESIGN.md 6.6): visits pixels with error > threshold in order
+// of decreasing error (ties: lower pixel index first) and keeps a pixel centre when it is
+// farther than spacing from every vertex in `existing` and every pixel kept before; stops
+// after max_count. Blocked pixels are skipped.
+std::vector<Point2> SelectRefinementSamples(const std::vector<float>& error, int width, int height,
+                                            double threshold, double spacing,
+                                            const std::vector<Vertex>& existing,
+                                            const std::vector<uint8_t>& blocked,
+                                            size_t max_count);
 
 // The built-in sample image (`sdvi sample`): smooth gradients, a sharp and a blurred
 // curved edge, a corner, RGB 0..255. Deterministic.

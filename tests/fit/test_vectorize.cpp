@@ -1,0 +1,167 @@
+// Tests of the vectorizer driver (vectorize.h): quality on small synthetic images, the
+// budgets, determinism, object images, the refinement helpers and bad input.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "sdvi/render.h"
+#include "sdvi/vectorize.h"
+
+namespace {
+
+// A smooth image: two gentle ramps and a Gaussian bump; RGB.
+sdvi::Raster SmoothImage(int width, int height) {
+  sdvi::Raster raster(width, height, 3);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const double u = (x + 0.5) / width, v = (y + 0.5) / height;
+      const double bump = std::exp(-((u - 0.4) * (u - 0.4) + (v - 0.6) * (v - 0.6)) * 8);
+      raster.at(x, y, 0) = float(40 + 150 * u + 40 * bump);
+      raster.at(x, y, 1) = float(60 + 120 * v);
+      raster.at(x, y, 2) = float(200 - 90 * u * v + 30 * bump);
+    }
+  }
+  return raster;
+}
+
+}  // namespace
+
+TEST_CASE("vectorize reaches a PSNR bound on the built-in sample image", "[vectorize]") {
+  const sdvi::Raster sample = sdvi::MakeSampleImage(128, 96);
+  sdvi::VectorizeOptions options;
+  options.compression_ratio = 16;
+  auto result = sdvi::Vectorize(sample, nullptr, options);
+  REQUIRE(result.ok());
+  const sdvi::VectorizeReport& r = result->report;
+  INFO("PSNR " << r.psnr << " dB, " << r.vertices << " vertices, " << r.triangles << " triangles");
+  CHECK(r.psnr > 30.0);
+  CHECK(r.mssim > 0.9);
+  CHECK(r.pixels == 128u * 96u);
+  CHECK(r.vertices == result->image.vertices.size());
+  CHECK(r.triangles == result->image.triangles.size());
+  CHECK(r.paper_size == 20ull * r.vertices + 6ull * r.triangles + 8);
+  CHECK(r.feature_curves > 0);  // the disc, the triangle and the soft edge
+  // The budget: about pixels / ratio vertices (the features may add a little).
+  CHECK(r.vertices <= 1.25 * 128 * 96 / 16.0);
+  // The report's reconstruction is what Render draws.
+  REQUIRE(result->reconstruction.width == 128);
+  REQUIRE(result->reconstruction.height == 96);
+}
+
+TEST_CASE("vectorize of a smooth image is accurate with few vertices", "[vectorize]") {
+  const sdvi::Raster smooth = SmoothImage(96, 96);
+  sdvi::VectorizeOptions options;
+  options.compression_ratio = 48;
+  auto result = sdvi::Vectorize(smooth, nullptr, options);
+  REQUIRE(result.ok());
+  INFO("PSNR " << result->report.psnr << " dB, " << result->report.vertices << " vertices");
+  CHECK(result->report.psnr > 40.0);
+  CHECK(result->report.vertices <= 96 * 96 / 48 + 40);
+}
+
+TEST_CASE("vectorize respects max-triangles and stops at a target PSNR", "[vectorize]") {
+  const sdvi::Raster sample = sdvi::MakeSampleImage(128, 96);
+  sdvi::VectorizeOptions capped;
+  capped.max_triangles = 600;
+  auto a = sdvi::Vectorize(sample, nullptr, capped);
+  REQUIRE(a.ok());
+  CHECK(a->report.triangles <= 600u);
+
+  sdvi::VectorizeOptions target;
+  target.compression_ratio = 8;
+  target.target_psnr = 20;  // reached by the first fit
+  auto b = sdvi::Vectorize(sample, nullptr, target);
+  REQUIRE(b.ok());
+  CHECK(b->report.iterations == 0);
+  CHECK(b->report.history.size() == 1);
+}
+
+TEST_CASE("vectorize is deterministic", "[vectorize]") {
+  const sdvi::Raster sample = sdvi::MakeSampleImage(112, 80);
+  sdvi::VectorizeOptions options;
+  options.compression_ratio = 24;
+  options.threads = 1;
+  options.fit.threads = 1;
+  auto first = sdvi::Vectorize(sample, nullptr, options);
+  options.threads = 2;
+  options.fit.threads = 2;
+  auto second = sdvi::Vectorize(sample, nullptr, options);
+  REQUIRE(first.ok());
+  REQUIRE(second.ok());
+  CHECK(first->image == second->image);
+  CHECK(first->report.psnr == second->report.psnr);
+}
+
+TEST_CASE("vectorize of an object image fits only the domain", "[vectorize]") {
+  // RGBA: an opaque disc on a transparent background.
+  sdvi::Raster rgba(96, 96, 4);
+  for (int y = 0; y < 96; ++y) {
+    for (int x = 0; x < 96; ++x) {
+      const double d = std::hypot(x + 0.5 - 48, y + 0.5 - 48);
+      rgba.at(x, y, 0) = float(100 + x);
+      rgba.at(x, y, 1) = float(80 + y);
+      rgba.at(x, y, 2) = 150.f;
+      rgba.at(x, y, 3) = d < 36 ? 1.f : 0.f;
+    }
+  }
+  auto result = sdvi::Vectorize(rgba, nullptr, sdvi::VectorizeOptions{});
+  REQUIRE(result.ok());
+  INFO("PSNR " << result->report.psnr);
+  CHECK(result->report.psnr > 30.0);
+  // The domain is the disc: about pi 36^2 pixels, not the whole square.
+  CHECK(result->report.pixels < 0.85 * 96 * 96);
+  CHECK(result->report.pixels > 0.75 * 3.14159 * 36 * 36);
+}
+
+TEST_CASE("vectorize rejects empty input and bad options", "[vectorize]") {
+  CHECK(sdvi::Vectorize(sdvi::Raster(), nullptr, {}).status().code() == sdvi::StatusCode::kEmptyInput);
+  const sdvi::Raster sample = sdvi::MakeSampleImage(32, 32);
+  sdvi::VectorizeOptions bad;
+  bad.compression_ratio = 0;
+  CHECK(sdvi::Vectorize(sample, nullptr, bad).status().code() == sdvi::StatusCode::kInvalidArgument);
+  bad = {};
+  bad.iterations = -1;
+  CHECK(sdvi::Vectorize(sample, nullptr, bad).status().code() == sdvi::StatusCode::kInvalidArgument);
+  const sdvi::Raster wrong_mask(16, 16, 1);
+  CHECK(sdvi::Vectorize(sample, &wrong_mask, {}).status().code() == sdvi::StatusCode::kInvalidArgument);
+  // A mask that excludes everything leaves no domain.
+  const sdvi::Raster empty_mask(32, 32, 1);
+  CHECK(sdvi::Vectorize(sample, &empty_mask, {}).status().code() == sdvi::StatusCode::kEmptyInput);
+}
+
+TEST_CASE("refinement selection keeps samples far apart and worst first", "[vectorize]") {
+  const int w = 20, h = 10;
+  std::vector<float> error(size_t(w) * h, 0.f);
+  error[5 * w + 5] = 100.f;   // worst
+  error[5 * w + 6] = 90.f;    // too close to the worst
+  error[5 * w + 15] = 50.f;   // far away
+  error[1 * w + 1] = 40.f;    // close to an existing vertex
+  std::vector<sdvi::Vertex> existing(1);
+  existing[0].x = 1.5f;
+  existing[0].y = 2.0f;
+  const std::vector<uint8_t> blocked(size_t(w) * h, 0);
+  const auto chosen = sdvi::SelectRefinementSamples(error, w, h, 10.0, 3.0, existing, blocked, 10);
+  REQUIRE(chosen.size() == 2);
+  CHECK(chosen[0].x == 5.5);
+  CHECK(chosen[0].y == 5.5);
+  CHECK(chosen[1].x == 15.5);
+  // max_count limits the selection.
+  CHECK(sdvi::SelectRefinementSamples(error, w, h, 10.0, 3.0, existing, blocked, 1).size() == 1);
+}
+
+TEST_CASE("the sample image has a sharp edge, a soft edge and smooth regions", "[vectorize]") {
+  const sdvi::Raster a = sdvi::MakeSampleImage(64, 48);
+  const sdvi::Raster b = sdvi::MakeSampleImage(64, 48);
+  REQUIRE(a.channels == 3);
+  CHECK(a.data == b.data);
+  float lo = 255, hi = 0;
+  for (float v : a.data) {
+    lo = std::min(lo, v);
+    hi = std::max(hi, v);
+  }
+  CHECK(lo >= 0.f);
+  CHECK(hi <= 255.f);
+  CHECK(hi - lo > 100.f);
+}
