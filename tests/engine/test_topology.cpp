@@ -149,3 +149,62 @@ TEST_CASE("Bad meshes give specific errors", "[topology]") {
   bad.triangles[2].v[1] = bad.triangles[2].v[0];
   CHECK(TaggedMesh::FromImage(bad).status().message().find("triangle 2") != std::string::npos);
 }
+
+TEST_CASE("Random small meshes: a specific error or a consistent surface, never a crash", "[topology]") {
+  int built = 0, refused = 0;
+  for (uint32_t seed = 0; seed < 300; ++seed) {
+    Image image;
+    const uint32_t nv = 3 + static_cast<uint32_t>((test::Noise(seed, 0) + 1) * 5);
+    const int nt = 1 + static_cast<int>((test::Noise(seed, 1) + 1) * 8);
+    for (uint32_t i = 0; i < nv; ++i) image.vertices.push_back(test::MakeVertex(50 * test::Noise(seed, 10 + i), 50 * test::Noise(seed, 40 + i), seed, i));
+    auto pick = [&](uint32_t k) { return static_cast<uint32_t>((test::Noise(seed, k) + 1) * 0.5 * nv) % nv; };
+    // Mostly distinct corners (every fifth mesh may repeat one), crease edges mostly taken
+    // from the triangles (one in four arbitrary).
+    for (int t = 0; t < nt; ++t) {
+      const uint32_t a = pick(100 + 3 * t);
+      uint32_t b = pick(101 + 3 * t), c = pick(102 + 3 * t);
+      if (seed % 5 != 0) {
+        b = (a + 1 + b % (nv - 1)) % nv;
+        while (c == a || c == b) c = (c + 1) % nv;
+      }
+      image.triangles.push_back(Triangle{{a, b, c}});
+    }
+    for (int c = 0; c < 3; ++c) {
+      const Triangle& t = image.triangles[pick(200 + 2 * c) % image.triangles.size()];
+      const int k = static_cast<int>(pick(201 + 2 * c) % 3);
+      image.crease_edges.push_back(seed % 4 == 0 ? Edge::Of(pick(210 + c), pick(220 + c))
+                                                 : Edge::Of(t.v[k], t.v[(k + 1) % 3]));
+    }
+    image.corners = {pick(300)};
+    LimitSurfaceOptions options;
+    options.levels = static_cast<int>(seed % 4);
+    options.to_limit = seed % 2 == 0;
+    auto surface = BuildLimitSurface(image, options);
+    auto direct = RefineImage(image, options);
+    REQUIRE(surface.ok() == direct.ok());
+    if (!surface.ok()) {
+      ++refused;
+      const StatusCode code = surface.status().code();
+      CHECK((code == StatusCode::kDegenerateTriangle || code == StatusCode::kDuplicateTriangle ||
+             code == StatusCode::kNonManifoldEdge || code == StatusCode::kCreaseNotAnEdge));
+      CHECK(direct.status().code() == code);
+      CHECK_FALSE(surface.status().message().empty());
+      continue;
+    }
+    ++built;
+    const auto fine = EvaluateSurface(*surface, image.vertices);
+    REQUIRE(fine.size() == direct->vertices.size());
+    for (size_t i = 0; i < fine.size(); ++i) {
+      CHECK(std::abs(fine[i].x - direct->vertices[i].x) < 1e-3f);
+      CHECK(std::abs(fine[i].g - direct->vertices[i].g) < 1e-3f);
+    }
+    const StencilTable& s = surface->stencils;
+    for (size_t r = 0; r < s.rows(); ++r) {
+      double sum = 0;
+      for (uint32_t k = s.offsets[r]; k < s.offsets[r + 1]; ++k) sum += s.weights[k];
+      CHECK(std::abs(sum - 1) < 1e-5);
+    }
+  }
+  CHECK(built > 10);
+  CHECK(refused > 10);
+}
