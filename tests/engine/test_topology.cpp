@@ -66,12 +66,23 @@ TEST_CASE("Refinement numbering and inherited tags", "[topology]") {
   for (size_t t = 0; t < mesh->num_triangles(); ++t)
     for (int k = 0; k < 4; ++k)
       CHECK((area(values, mesh->triangles()[t]) > 0) == (area(fine_values, fine.triangles()[4 * t + k]) > 0));
-  // Edge tables agree with triangles after refinement.
-  for (size_t f = 0; f < fine.num_triangles(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const Edge e = fine.edges()[fine.triangle_edges(f)[k]];
-      CHECK(e == Edge::Of(fine.triangles()[f].v[k], fine.triangles()[f].v[(k + 1) % 3]));
+  // Edge tables agree with triangles after refinement, twice.
+  const TaggedMesh finer = fine.Refine();
+  for (const TaggedMesh* m : std::array<const TaggedMesh*, 2>{&fine, &finer}) {
+    std::vector<std::vector<uint32_t>> tris_of_edge(m->num_edges());
+    for (uint32_t f = 0; f < m->num_triangles(); ++f)
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t e = m->triangle_edges(f)[k];
+        CHECK(m->edges()[e] == Edge::Of(m->triangles()[f].v[k], m->triangles()[f].v[(k + 1) % 3]));
+        tris_of_edge[e].push_back(f);
+      }
+    for (size_t e = 0; e < m->num_edges(); ++e) {
+      tris_of_edge[e].resize(2, kNoIndex);
+      CHECK(m->edge_triangles(e)[0] == tris_of_edge[e][0]);
+      CHECK(m->edge_triangles(e)[1] == tris_of_edge[e][1]);
+      if (m->edge_triangles(e)[1] == kNoIndex) CHECK(m->is_crease(e));
     }
+  }
 }
 
 TEST_CASE("Bad meshes give specific errors", "[topology]") {

@@ -282,13 +282,30 @@ TaggedMesh TaggedMesh::Refine() const {
     child.triangle_edges_[4 * t + 2] = {i0 + 1, half(e1, c), half(e2, c)};
     child.triangle_edges_[4 * t + 3] = {i0, i0 + 1, i0 + 2};
   }
+  // Triangles of the child edges, in increasing order: a half edge lies in the corner
+  // children of its parent edge's triangles; an inner edge in a corner child and the
+  // middle child.
   internal::ReserveLarge(child.edge_triangles_, child.edges_.size());
-  child.edge_triangles_.assign(child.edges_.size(), {kNoIndex, kNoIndex});
-  for (uint32_t f = 0; f < child.triangles_.size(); ++f)
-    for (uint32_t e : child.triangle_edges_[f]) {
-      auto& slot = child.edge_triangles_[e];
-      (slot[0] == kNoIndex ? slot[0] : slot[1]) = f;
+  child.edge_triangles_.resize(child.edges_.size());
+  for (size_t e = 0; e < ne; ++e) {
+    for (int side = 0; side < 2; ++side) {
+      const uint32_t end = side == 0 ? edges_[e].a : edges_[e].b;
+      std::array<uint32_t, 2> tris{kNoIndex, kNoIndex};
+      for (int k = 0; k < 2; ++k) {
+        const uint32_t t = edge_triangles_[e][k];
+        if (t == kNoIndex) continue;
+        const auto& v = triangles_[t].v;
+        tris[k] = 4 * t + (v[0] == end ? 0 : v[1] == end ? 1 : 2);
+      }
+      child.edge_triangles_[2 * e + side] = tris;
     }
+  }
+  for (size_t t = 0; t < nt; ++t) {
+    const uint32_t i0 = static_cast<uint32_t>(2 * ne + 3 * t), f = static_cast<uint32_t>(4 * t);
+    child.edge_triangles_[i0] = {f + 1, f + 3};
+    child.edge_triangles_[i0 + 1] = {f + 2, f + 3};
+    child.edge_triangles_[i0 + 2] = {f, f + 3};
+  }
   child.BuildNeighbours();
   child.vertex_tags_ = RefinedVertexTags();
   return child;
