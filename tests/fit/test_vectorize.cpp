@@ -142,13 +142,24 @@ TEST_CASE("refinement selection keeps samples far apart and worst first", "[vect
   existing[0].x = 1.5f;
   existing[0].y = 2.0f;
   const std::vector<uint8_t> blocked(size_t(w) * h, 0);
-  const auto chosen = sdvi::SelectRefinementSamples(error, w, h, 10.0, 3.0, existing, blocked, 10);
+  sdvi::SpacingRule spacing;
+  spacing.base = spacing.min = spacing.max = 3.0;
+  const auto chosen = sdvi::SelectRefinementSamples(error, w, h, 10.0, spacing, existing, blocked, 10);
   REQUIRE(chosen.size() == 2);
   CHECK(chosen[0].x == 5.5);
   CHECK(chosen[0].y == 5.5);
   CHECK(chosen[1].x == 15.5);
   // max_count limits the selection.
-  CHECK(sdvi::SelectRefinementSamples(error, w, h, 10.0, 3.0, existing, blocked, 1).size() == 1);
+  CHECK(sdvi::SelectRefinementSamples(error, w, h, 10.0, spacing, existing, blocked, 1).size() == 1);
+  // With an exponent, a high error allows closer samples.
+  spacing.exponent = 0.5;
+  spacing.reference_error = 100.0;
+  spacing.min = 0.5;
+  spacing.max = 12.0;
+  CHECK(spacing.At(400.0) == Approx(1.5));
+  CHECK(spacing.At(1.0) == Approx(12.0));
+  const auto adaptive = sdvi::SelectRefinementSamples(error, w, h, 10.0, spacing, existing, blocked, 10);
+  CHECK(adaptive.size() == 2);  // (6,5) is within 3 px of (5,5); the error-40 pixel is near the vertex
 }
 
 TEST_CASE("the sample image has a sharp edge, a soft edge and smooth regions", "[vectorize]") {

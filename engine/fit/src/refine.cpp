@@ -141,8 +141,16 @@ std::vector<float> ErrorMap(const Raster& reconstruction, const Raster& target, 
   return out;
 }
 
+double SpacingRule::At(double error) const {
+  double r = base;
+  if (exponent != 0 && error > 0 && reference_error > 0) {
+    r = base * std::pow(reference_error / error, exponent);
+  }
+  return std::clamp(r, min, std::max(min, max));
+}
+
 std::vector<Point2> SelectRefinementSamples(const std::vector<float>& error, int width, int height,
-                                            double threshold, double spacing,
+                                            double threshold, const SpacingRule& spacing,
                                             const std::vector<Vertex>& existing,
                                             const std::vector<uint8_t>& blocked,
                                             size_t max_count) {
@@ -155,11 +163,11 @@ std::vector<Point2> SelectRefinementSamples(const std::vector<float>& error, int
   std::sort(candidates.begin(), candidates.end(), [&](uint32_t a, uint32_t b) {
     return error[a] != error[b] ? error[a] > error[b] : a < b;
   });
-  PointGrid grid(width, height, spacing);
+  PointGrid grid(width, height, std::max({spacing.base, spacing.min, spacing.max}));
   for (const Vertex& v : existing) grid.Add(v.x, v.y);
   for (uint32_t p : candidates) {
     const double x = p % width + 0.5, y = double(p / width) + 0.5;
-    if (grid.AnyCloserThan(x, y, spacing)) continue;
+    if (grid.AnyCloserThan(x, y, spacing.At(error[p]))) continue;
     grid.Add(x, y);
     chosen.push_back({x, y});
     if (chosen.size() >= max_count) break;

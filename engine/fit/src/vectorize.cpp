@@ -216,8 +216,12 @@ StatusOr<VectorizeResult> Vectorize(const Raster& raster, const Raster* mask,
   }
 
   // 6. Refinement rounds.
-  const double spacing = std::max(options.min_spacing,
-                                  options.spacing_factor * std::sqrt(double(domain_pixels) / vertex_budget));
+  SpacingRule spacing;
+  spacing.base = std::max(options.min_spacing,
+                          options.spacing_factor * std::sqrt(double(domain_pixels) / vertex_budget));
+  spacing.min = options.min_spacing;
+  spacing.max = 4 * spacing.base;
+  spacing.exponent = options.spacing_exponent;
   const double threshold = 3.0 * options.error_threshold * options.error_threshold;
   for (int round = 1; round <= options.iterations; ++round) {
     if (options.target_psnr > 0 && psnr >= options.target_psnr) break;
@@ -225,7 +229,7 @@ StatusOr<VectorizeResult> Vectorize(const Raster& raster, const Raster* mask,
     if (triangle_cap > 0) {
       room = std::min(room, (double(triangle_cap) - double(mesh.triangles.size())) / 2.0);
     }
-    if (room < 1) break;
+    if (room < std::max(1.0, 0.03 * vertex_budget)) break;  // within 3% of the budget
     const size_t want =
         size_t(std::min(room, std::max(64.0, options.growth * double(mesh.vertices.size()))));
 
@@ -233,6 +237,9 @@ StatusOr<VectorizeResult> Vectorize(const Raster& raster, const Raster* mask,
     start = Clock::now();
     const Raster reconstruction = ReconstructRaster(fit);
     const std::vector<float> error = ErrorMap(reconstruction, raster, mask, options.error_blur_sigma);
+    double error_sum = 0;
+    for (float e : error) error_sum += std::max(0.f, e);
+    spacing.reference_error = error_sum / double(domain_pixels);
     blocked = BlockedPixels(raster, mask, &mesh, curves, clearance);
     std::vector<Point2> added = SelectRefinementSamples(error, width, height, threshold, spacing,
                                                         mesh.vertices, blocked, want);

@@ -11,8 +11,8 @@
 // sample chosen before it. The spacing is spacing_factor * sqrt(domain pixels / target
 // vertex count), floored at min_spacing. The new samples are added, the domain
 // re-triangulated (BuildControlMesh) and the colours re-fitted. The loop stops when the
-// PSNR reaches target_psnr, when the triangle budget is spent, after `iterations` rounds,
-// or when no candidate is left.
+// PSNR reaches target_psnr, when the budget is spent (less than 3% of it left), after
+// `iterations` rounds, or when no candidate is left.
 //
 // Budget. max_triangles (when > 0) is a hard cap: a round that would exceed it is redone
 // with fewer (the worst-error) samples; an initial mesh over it is rebuilt with fewer grid
@@ -47,6 +47,7 @@ struct VectorizeOptions {
   double error_blur_sigma = 1.0;   // px
   double spacing_factor = 0.25;
   double min_spacing = 2.0;        // px
+  double spacing_exponent = 0;     // SpacingRule::exponent (0: fixed spacing)
   double initial_fraction = 0.15;  // share of the vertex budget placed as the initial grid
   double growth = 1.0;             // a round adds at most growth x the current vertex count
   // Features of at most this share of the vertex budget are kept (the longest first).
@@ -128,12 +129,22 @@ std::vector<Point2> GridSamples(int width, int height, double spacing,
 std::vector<float> ErrorMap(const Raster& reconstruction, const Raster& target, const Raster* mask,
                             double sigma);
 
+// The minimum distance of a new sample, as a function of the error e at its pixel:
+// clamp(base * (reference_error / e)^exponent, min, max). exponent 0: a fixed spacing;
+// exponent > 0: closer samples where the error is larger (density grows with the error).
+struct SpacingRule {
+  double base = 2, min = 2, max = 2;
+  double exponent = 0;
+  double reference_error = 1;
+  double At(double error) const;
+};
+
 // Greedy far-apart selection (DESIGN.md 6.6): visits pixels with error > threshold in order
 // of decreasing error (ties: lower pixel index first) and keeps a pixel centre when it is
-// farther than spacing from every vertex in `existing` and every pixel kept before; stops
-// after max_count. Blocked pixels are skipped.
+// farther than spacing.At(its error) from every vertex in `existing` and every pixel kept
+// before; stops after max_count. Blocked pixels are skipped.
 std::vector<Point2> SelectRefinementSamples(const std::vector<float>& error, int width, int height,
-                                            double threshold, double spacing,
+                                            double threshold, const SpacingRule& spacing,
                                             const std::vector<Vertex>& existing,
                                             const std::vector<uint8_t>& blocked,
                                             size_t max_count);
