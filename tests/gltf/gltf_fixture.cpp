@@ -2,6 +2,9 @@
 // inputs in code and compares screenshots.
 //   sdvi_gltf_fixture sdvi   gradient|object W H OUT.sdvi
 //   sdvi_gltf_fixture gltf   gradient|object W H OUT.glb|OUT.gltf [--draco] [--control-mesh] [--levels r]
+//   sdvi_gltf_fixture gltf-variants gradient|object W H DIR
+//       writes DIR/<kind>_<variant>.glb and .gltf for the variants plain, draco, control,
+//       draco_control and prints their paths, one a line
 //   sdvi_gltf_fixture compare SHOT.png OURS.png MIN_PSNR [SIDE_BY_SIDE.png]
 // compare prints the metrics of sdvi::CompareImages (PSNR over the pixels both images
 // cover) and fails (exit 1) below MIN_PSNR or when over 1% of the pixels are covered by
@@ -34,6 +37,7 @@ int Usage() {
                "usage: sdvi_gltf_fixture sdvi gradient|object W H OUT.sdvi\n"
                "       sdvi_gltf_fixture gltf gradient|object W H OUT.glb|OUT.gltf [--draco] "
                "[--control-mesh] [--levels r]\n"
+               "       sdvi_gltf_fixture gltf-variants gradient|object W H DIR\n"
                "       sdvi_gltf_fixture compare SHOT.png OURS.png MIN_PSNR [SIDE_BY_SIDE.png]\n");
   return 2;
 }
@@ -146,7 +150,9 @@ int main(int argc, char** argv) {
     if (args.size() != 4 && args.size() != 5) return Usage();
     return Compare(args[1], args[2], std::atof(args[3].c_str()), args.size() == 5 ? args[4] : "");
   }
-  if ((args[0] != "sdvi" && args[0] != "gltf") || args.size() < 5) return Usage();
+  if ((args[0] != "sdvi" && args[0] != "gltf" && args[0] != "gltf-variants") || args.size() < 5) {
+    return Usage();
+  }
   sdvi::Image image;
   if (!MakeImage(args[1], std::atoi(args[2].c_str()), std::atoi(args[3].c_str()), &image)) {
     return Usage();
@@ -158,6 +164,24 @@ int main(int argc, char** argv) {
     if (!status.ok()) {
       std::fprintf(stderr, "%s: %s\n", out.c_str(), status.ToString().c_str());
       return 2;
+    }
+    return 0;
+  }
+  if (args[0] == "gltf-variants") {
+    if (args.size() != 5) return Usage();
+    for (const char* variant : {"plain", "draco", "control", "draco_control"}) {
+      sdvi::GltfExportOptions options;
+      options.draco = std::string(variant).find("draco") != std::string::npos;
+      options.control_mesh = std::string(variant).find("control") != std::string::npos;
+      for (const char* ext : {".glb", ".gltf"}) {
+        const std::string path = out + "/" + args[1] + "_" + variant + ext;
+        auto exported = sdvi::WriteGltf(path, image, options);
+        if (!exported.ok()) {
+          std::fprintf(stderr, "%s: %s\n", path.c_str(), exported.status().ToString().c_str());
+          return 2;
+        }
+        std::printf("%s\n", path.c_str());
+      }
     }
     return 0;
   }

@@ -12,18 +12,8 @@ command -v node >/dev/null 2>&1 || { echo "SKIP: node is not installed"; exit 77
 rm -rf "$work" && mkdir -p "$work" || exit 1
 files=()
 for kind in gradient object; do
-  for variant in plain draco control draco_control; do
-    case $variant in
-      plain) flags=() ;;
-      draco) flags=(--draco) ;;
-      control) flags=(--control-mesh) ;;
-      draco_control) flags=(--draco --control-mesh) ;;
-    esac
-    for ext in glb gltf; do
-      out="$work/${kind}_${variant}.$ext"
-      "$fixture" gltf "$kind" 96 64 "$out" "${flags[@]}" || { echo "FAIL: export $out"; exit 1; }
-      files+=("$out")
-    done
-  done
+  mapfile -t -O "${#files[@]}" files < <("$fixture" gltf-variants "$kind" 96 64 "$work") ||
+    { echo "FAIL: export of the $kind variants"; exit 1; }
 done
+[ "${#files[@]}" -eq 16 ] || { echo "FAIL: expected 16 files, got ${#files[@]}"; exit 1; }
 node "$root/scripts/gltf_validate.mjs" "${files[@]}" --json "$work/report.json"
