@@ -6,9 +6,14 @@
 
 #include "args.h"
 #include "commands.h"
+#include "io.h"
 #include "sdvi/file_util.h"
 #include "sdvi/format.h"
 #include "sdvi/mesh_json.h"
+#if __has_include("sdvi/codec.h")
+#include "sdvi/codec.h"
+#define SDVI_CLI_HAS_CODEC 1
+#endif
 
 namespace sdvi::cli {
 namespace {
@@ -24,7 +29,8 @@ StatusOr<FileKind> KindOfOutput(const std::string& path) {
                     "' (expected .sdvi or .json)");
 }
 
-// An input is .sdvi when it carries the identifier, mesh JSON when it has that extension.
+// An input is .sdvi when it carries the identifier (any payload, through LoadSdvi), mesh
+// JSON when it has that extension.
 StatusOr<Image> LoadAny(const std::string& path) {
   SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, ReadFileBytes(path));
   const bool sdvi_identifier = bytes.size() >= 8 && std::equal(bytes.begin() + 4, bytes.begin() + 8,
@@ -34,11 +40,7 @@ StatusOr<Image> LoadAny(const std::string& path) {
     return ParseMeshJson(
         std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), path);
   }
-  SDVI_ASSIGN_OR_RETURN(SdviFile file, DecodeSdvi(bytes, path));
-  if (file.payload != PayloadKind::kRaw)
-    return Status(StatusCode::kUnsupportedFormat,
-                  path + ": the mesh is Draco-compressed; run `sdvi decompress` first");
-  return std::move(file.image);
+  return LoadSdvi(path);
 }
 
 // Vertices that are corners: tagged explicitly, or with crease degree 1 or >= 3 counting
@@ -132,6 +134,21 @@ int RunInfo(const CommandArgs& args) {
     if (narrow && !optional_data) j["within_paper_bound"] = file->file_bytes <= paper + 64;
   } else {
     j["compressed_payload_bytes"] = file->compressed_payload.size();
+#ifdef SDVI_CLI_HAS_CODEC
+    auto draco = InspectDracoPayload(file->compressed_payload, path);
+    if (!draco.ok()) return ReportError("info", draco.status());
+    j["crease_edges"] = draco->crease_edge_count;
+    j["corners_explicit"] = draco->corner_count;
+    j["draco"] = {{"payload_version", std::to_string(draco->version_major) + "." +
+                                          std::to_string(draco->version_minor)},
+                  {"position_bits", draco->position_bits},
+                  {"color_bits", draco->color_bits},
+                  {"speed", draco->speed},
+                  {"draco_bytes", draco->draco_bytes},
+                  {"tag_bytes", draco->tag_bytes}};
+    j["feature_layer_in_payload"] = draco->has_feature_layer;
+#endif
+    j["ratio_to_paper"] = paper ? static_cast<double>(file->file_bytes) / paper : 0.0;
   }
   j["compression_ratio"] = vertices ? static_cast<double>(pixels) / vertices : 0.0;
   j["bits_per_pixel"] = pixels ? 8.0 * file->file_bytes / pixels : 0.0;
@@ -156,14 +173,29 @@ int RunInfo(const CommandArgs& args) {
     std::printf("corners            %zu (%zu explicit)\n", CountCorners(image),
                 image.corners.size());
   }
-  std::printf("feature layer      %zu polylines, %zu pairs\n", image.polylines.size(),
-              image.pairs.size());
+  if (!raw && j.contains("draco")) {
+    const auto& d = j["draco"];
+    std::printf("crease edges       %llu\n", j["crease_edges"].get<unsigned long long>());
+    std::printf("corners            %llu explicit\n", j["corners_explicit"].get<unsigned long long>());
+    std::printf("Draco payload      version %s, %d position bits, %d colour bits, speed %d "
+                "(%llu Draco + %llu tag bytes)\n",
+                d["payload_version"].get<std::string>().c_str(), d["position_bits"].get<int>(),
+                d["color_bits"].get<int>(), d["speed"].get<int>(),
+                d["draco_bytes"].get<unsigned long long>(), d["tag_bytes"].get<unsigned long long>());
+  }
+  if (j.value("feature_layer_in_payload", false))
+    std::printf("feature layer      inside the Draco payload\n");
+  else
+    std::printf("feature layer      %zu polylines, %zu pairs\n", image.polylines.size(),
+                image.pairs.size());
   std::printf("metadata entries   %zu\n", image.metadata.size());
   std::printf("paper size         %llu bytes (20 V + 6 T + 8)\n",
               static_cast<unsigned long long>(paper));
   std::printf("file size          %llu bytes", static_cast<unsigned long long>(file->file_bytes));
   if (raw) std::printf(" (container adds %lld)", static_cast<long long>(file->file_bytes) - static_cast<long long>(paper));
-  else std::printf(" (Draco payload %zu)", file->compressed_payload.size());
+  else
+    std::printf(" (Draco payload %zu; %.3f x the paper size)", file->compressed_payload.size(),
+                j["ratio_to_paper"].get<double>());
   std::printf("\n");
   std::printf("compression ratio  %.2f pixels per vertex\n", j["compression_ratio"].get<double>());
   std::printf("bits per pixel     %.3f\n", j["bits_per_pixel"].get<double>());
