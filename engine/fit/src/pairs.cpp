@@ -140,21 +140,39 @@ std::vector<Point2> Normals(const std::vector<Point2>& p, bool closed) {
   return out;
 }
 
-// Signed-area-free point-in-domain test: odd number of boundary crossings of a ray.
-bool InsideBoundary(Point2 p, const std::vector<PlacedPolyline>& boundary) {
-  bool inside = false;
-  for (const PlacedPolyline& b : boundary) {
-    const size_t m = b.points.size();
-    for (size_t i = 0, j = m - 1; i < m; j = i++) {
-      Point2 a = b.points[i], c = b.points[j];
+// Point-in-domain test for object mode: even-odd rule over all boundary polylines (a
+// horizontal ray to the right), with the segments bucketed by pixel row.
+class DomainTest {
+ public:
+  DomainTest(const std::vector<PlacedPolyline>& boundary, int height) : rows_(size_t(height) + 1) {
+    for (const PlacedPolyline& b : boundary) {
+      const size_t m = b.points.size();
+      for (size_t i = 0, j = m - 1; i < m; j = i++) {
+        Point2 a = b.points[i], c = b.points[j];
+        if (a.y == c.y) continue;
+        segs_.push_back({a, c});
+        int r0 = Row(std::min(a.y, c.y)), r1 = Row(std::max(a.y, c.y));
+        for (int r = r0; r <= r1; ++r) rows_[r].push_back(int(segs_.size() - 1));
+      }
+    }
+  }
+  bool Inside(Point2 p) const {
+    bool inside = false;
+    for (int id : rows_[Row(p.y)]) {
+      const auto& [a, c] = segs_[id];
       if ((a.y > p.y) != (c.y > p.y)) {
         double x = a.x + (p.y - a.y) * (c.x - a.x) / (c.y - a.y);
         if (p.x < x) inside = !inside;
       }
     }
+    return inside;
   }
-  return inside;
-}
+
+ private:
+  int Row(double y) const { return std::clamp(int(std::floor(y)), 0, int(rows_.size()) - 1); }
+  std::vector<std::vector<int>> rows_;
+  std::vector<std::pair<Point2, Point2>> segs_;
+};
 
 Status ValidateCurve(const FeatureCurve& c, size_t index, int width, int height) {
   auto bad = [&](const std::string& what) {
@@ -181,7 +199,7 @@ Status ValidateCurve(const FeatureCurve& c, size_t index, int width, int height)
 // the clearance, or the inside of the boundary polylines when given).
 std::vector<bool> BadSegments(const std::vector<const PlacedPolyline*>& lines, const SegmentGrid& placed,
                               double clearance, double self_clearance, bool check_domain, int width,
-                              int height, const std::vector<PlacedPolyline>* boundary) {
+                              int height, const DomainTest* domain) {
   const PlacedPolyline& first = *lines[0];
   const int m = int(first.points.size());
   const int segs = first.closed ? m : m - 1;
@@ -189,7 +207,7 @@ std::vector<bool> BadSegments(const std::vector<const PlacedPolyline*>& lines, c
   for (const PlacedPolyline* l : lines) {
     for (int i = 0; i < m && check_domain; ++i) {
       Point2 p = l->points[i];
-      bool inside = boundary ? InsideBoundary(p, *boundary)
+      bool inside = domain ? domain->Inside(p)
                              : (p.x >= clearance && p.y >= clearance && p.x <= width - clearance &&
                                 p.y <= height - clearance);
       if (!inside) {
@@ -329,8 +347,8 @@ StatusOr<PlacedFeatures> PlaceFeatures(int width, int height, const std::vector<
       return Status(StatusCode::kInvalidMesh, "BuildControlMesh: no boundary curve can bound the domain "
                                               "(all cross each other or themselves)");
   }
-  const std::vector<PlacedPolyline> boundary = out.polylines;
-  const std::vector<PlacedPolyline>* domain_test = out.object_mode ? &boundary : nullptr;
+  const DomainTest object_domain(out.object_mode ? out.polylines : std::vector<PlacedPolyline>{}, height);
+  const DomainTest* domain_test = out.object_mode ? &object_domain : nullptr;
 
   // Features, longest first.
   std::vector<size_t> order;
@@ -402,7 +420,7 @@ StatusOr<PlacedFeatures> PlaceFeatures(int width, int height, const std::vector<
   // Interior samples: inside, clear of polylines, at least clearance apart.
   SegmentGrid sample_grid(width, height, std::max(4.0, 4 * clearance));
   for (const Point2& p : interior_samples) {
-    bool inside = domain_test ? InsideBoundary(p, boundary)
+    bool inside = domain_test ? domain_test->Inside(p)
                               : (p.x > clearance && p.y > clearance && p.x < width - clearance &&
                                  p.y < height - clearance);
     if (!inside) continue;
