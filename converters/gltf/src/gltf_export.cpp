@@ -35,8 +35,12 @@ constexpr double kTargetFineArea = 2.0;  // source pixels^2 per fine triangle
 constexpr int kArrayBuffer = TINYGLTF_TARGET_ARRAY_BUFFER;
 constexpr int kElementArrayBuffer = TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER;
 
-// Twice the signed area of control triangle t in source coordinates (y down).
+// Twice the signed area of control triangle t in source coordinates (y down); 0 when an
+// index is out of range (the engine reports those when it builds the surface).
 double SignedArea2(const Image& image, const Triangle& t) {
+  for (uint32_t v : t.v) {
+    if (v >= image.vertices.size()) return 0;
+  }
   const Vertex& a = image.vertices[t.v[0]];
   const Vertex& b = image.vertices[t.v[1]];
   const Vertex& c = image.vertices[t.v[2]];
