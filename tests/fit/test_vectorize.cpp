@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -83,10 +84,8 @@ TEST_CASE("vectorize is deterministic", "[vectorize]") {
   sdvi::VectorizeOptions options;
   options.compression_ratio = 24;
   options.threads = 1;
-  options.fit.threads = 1;
   auto first = sdvi::Vectorize(sample, nullptr, options);
   options.threads = 2;
-  options.fit.threads = 2;
   auto second = sdvi::Vectorize(sample, nullptr, options);
   REQUIRE(first.ok());
   REQUIRE(second.ok());
@@ -175,4 +174,35 @@ TEST_CASE("the sample image has a sharp edge, a soft edge and smooth regions", "
   CHECK(lo >= 0.f);
   CHECK(hi <= 255.f);
   CHECK(hi - lo > 100.f);
+}
+
+TEST_CASE("vectorize handles tiny, grey and grey+alpha images", "[vectorize]") {
+  for (const auto& [w, h, channels] : std::vector<std::array<int, 3>>{
+           {8, 8, 3}, {5, 17, 3}, {24, 16, 1}, {24, 20, 2}, {40, 30, 4}}) {
+    const sdvi::Raster sample = sdvi::MakeSampleImage(w, h);
+    sdvi::Raster raster(w, h, channels);
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        const float grey = sample.at(x, y, 1);
+        if (channels <= 2) {
+          raster.at(x, y, 0) = grey;
+        } else {
+          for (int c = 0; c < 3; ++c) raster.at(x, y, c) = sample.at(x, y, c);
+        }
+        if (channels == 2 || channels == 4) raster.at(x, y, channels - 1) = (x + y) % 7 == 0 ? 0.f : 1.f;
+      }
+    }
+    INFO(w << "x" << h << " with " << channels << " channels");
+    auto result = sdvi::Vectorize(raster, nullptr, sdvi::VectorizeOptions{});
+    REQUIRE(result.ok());
+    CHECK(result->report.vertices >= 3);
+    CHECK(std::isfinite(result->report.psnr));
+    if (channels <= 2) {
+      // Grey stays grey: R = G = B at every control vertex.
+      for (const sdvi::Vertex& v : result->image.vertices) {
+        CHECK(v.r == v.g);
+        CHECK(v.g == v.b);
+      }
+    }
+  }
 }

@@ -204,8 +204,10 @@ StatusOr<VectorizeResult> Vectorize(const Raster& raster, const Raster* mask,
   }
   seconds.triangulate += SecondsSince(start);
 
+  ColorFitOptions fit_options = options.fit;
+  fit_options.threads = options.threads;
   phase("fit");
-  SDVI_ASSIGN_OR_RETURN(ColorFit fit, FitColors(mesh, raster, mask, options.fit));
+  SDVI_ASSIGN_OR_RETURN(ColorFit fit, FitColors(mesh, raster, mask, fit_options));
   AddFitTimes(fit, seconds);
   double psnr = PsnrOf(fit.sum_squared_error, fit.domain_pixels);
   report.history.push_back(
@@ -266,7 +268,7 @@ StatusOr<VectorizeResult> Vectorize(const Raster& raster, const Raster* mask,
     if (!accepted) break;
 
     phase("fit " + std::to_string(round));
-    SDVI_ASSIGN_OR_RETURN(ColorFit refit, FitColors(candidate, raster, mask, options.fit));
+    SDVI_ASSIGN_OR_RETURN(ColorFit refit, FitColors(candidate, raster, mask, fit_options));
     AddFitTimes(refit, seconds);
     mesh = std::move(candidate);
     fit = std::move(refit);
@@ -288,6 +290,7 @@ StatusOr<VectorizeResult> Vectorize(const Raster& raster, const Raster* mask,
   RenderOptions render_options;
   render_options.viewport = Viewport::Identity(width, height);
   render_options.levels = std::max(2, options.fit.surface.levels);  // the fitted level r
+  render_options.threads = options.threads;
   SDVI_ASSIGN_OR_RETURN(result.reconstruction, Render(mesh, render_options));
   Raster reference_with_domain;
   const Raster* reference = &raster;

@@ -54,8 +54,8 @@ struct VectorizeOptions {
   double max_feature_fraction = 0.5;
   FeatureOptions features;
   ControlMeshOptions mesh;
-  ColorFitOptions fit;
-  int threads = 1;
+  ColorFitOptions fit;             // its `threads` is replaced by `threads` below
+  int threads = 1;                 // worker threads (colour fit assembly, final render)
   Progress* progress = nullptr;    // optional terminal progress (not owned)
 };
 
