@@ -333,12 +333,12 @@ int DefaultPositionBits(const Image& image) {
   double max_abs = 0;
   const double extent = std::max({double(image.width), double(image.height),
                                   image.vertices.empty() ? 0.0 : AttributeRange(image, false, &max_abs)});
-  return BitsForStep(extent, 1.0 / 16);
+  return BitsForStep(extent, 1.0 / 32);
 }
 
 int DefaultColorBits(const Image& image) {
   double max_abs = 0;
-  return BitsForStep(AttributeRange(image, true, &max_abs), 0.25);
+  return BitsForStep(AttributeRange(image, true, &max_abs), 0.5);
 }
 
 ErrorBound CompressionErrorBound(const Image& image, int position_bits, int color_bits) {

@@ -159,13 +159,13 @@ TEST_CASE("meshes edgebreaker cannot carry still round trip (isolated vertex, no
 TEST_CASE("default quantization is chosen from the image size", "[codec]") {
   Image small = sdvi::testing::SyntheticGridImage(64, 64, 5, 5);
   Image large = sdvi::testing::SyntheticGridImage(4096, 2048, 5, 5);
-  CHECK(sdvi::DefaultPositionBits(small) == 11);  // 64 * 16 steps need 2^11 - 1 >= 1024
-  CHECK(sdvi::DefaultPositionBits(large) == 17);
+  CHECK(sdvi::DefaultPositionBits(small) == 12);  // 64 * 32 steps need 2^12 - 1 >= 2048
+  CHECK(sdvi::DefaultPositionBits(large) == 18);
   CHECK(sdvi::DefaultColorBits(small) >= 8);
   const auto bound = sdvi::CompressionErrorBound(large, sdvi::DefaultPositionBits(large),
                                                  sdvi::DefaultColorBits(large));
-  CHECK(bound.position <= 1.0 / 32 + 1e-3);
-  CHECK(bound.color <= 0.125 + 1e-3);
+  CHECK(bound.position <= 1.0 / 64 + 1e-3);
+  CHECK(bound.color <= 0.25 + 1e-3);
 }
 
 TEST_CASE("Draco payload is at most a quarter of the paper's raw size", "[codec]") {
