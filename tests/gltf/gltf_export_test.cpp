@@ -267,6 +267,10 @@ TEST_CASE("gltf asset and unlit material and extras follow spec GLTF.md") {
   CHECK(Export(image, options).doc["asset"]["copyright"] == "given on the command line");
   CHECK(Export(sdvi::gltf_test::GradientWithCrease(8, 8, 1, 1), Levels(0))
             .doc["asset"]["copyright"] == "unspecified");
+  // JSON needs UTF-8: bytes that are not (Latin-1 here) become U+FFFD; valid text stays.
+  options.copyright = "\xA9 1972 Playboy, \xC2\xA9 ok, \xED\xA0\x80, \xF0\x9F\x98\x80";
+  CHECK(Export(image, options).doc["asset"]["copyright"] ==
+        "\xEF\xBF\xBD 1972 Playboy, \xC2\xA9 ok, \xEF\xBF\xBD\xEF\xBF\xBD\xEF\xBF\xBD, \xF0\x9F\x98\x80");
 }
 
 TEST_CASE("gltf object image has no triangles outside its domain") {

@@ -8,7 +8,9 @@
 #include <cstring>
 #include <limits>
 #include <map>
+#include <new>
 #include <sstream>
+#include <stdexcept>
 #include <utility>
 
 // tinygltf is a compiled library here: declarations only (no TINYGLTF_IMPLEMENTATION).
@@ -335,10 +337,41 @@ void AddControlMeshNode(tinygltf::Model* model, const Image& image,
   model->scenes[0].nodes.push_back(int(model->nodes.size() - 1));
 }
 
+// text with every byte that does not start a well-formed UTF-8 sequence (RFC 3629: no
+// overlong forms, no surrogates, at most U+10FFFF) replaced by U+FFFD: JSON needs UTF-8.
+std::string ValidUtf8(const std::string& text) {
+  std::string out;
+  const auto* p = reinterpret_cast<const unsigned char*>(text.data());
+  const size_t n = text.size();
+  auto cont = [&](size_t i, unsigned char lo = 0x80, unsigned char hi = 0xBF) {
+    return i < n && p[i] >= lo && p[i] <= hi;
+  };
+  for (size_t i = 0; i < n;) {
+    const unsigned char c = p[i];
+    size_t len = 0;
+    if (c < 0x80) len = 1;
+    else if (c >= 0xC2 && c <= 0xDF && cont(i + 1)) len = 2;
+    else if (c == 0xE0 && cont(i + 1, 0xA0) && cont(i + 2)) len = 3;
+    else if (((c >= 0xE1 && c <= 0xEC) || c == 0xEE || c == 0xEF) && cont(i + 1) && cont(i + 2)) len = 3;
+    else if (c == 0xED && cont(i + 1, 0x80, 0x9F) && cont(i + 2)) len = 3;
+    else if (c == 0xF0 && cont(i + 1, 0x90) && cont(i + 2) && cont(i + 3)) len = 4;
+    else if (c >= 0xF1 && c <= 0xF3 && cont(i + 1) && cont(i + 2) && cont(i + 3)) len = 4;
+    else if (c == 0xF4 && cont(i + 1, 0x80, 0x8F) && cont(i + 2) && cont(i + 3)) len = 4;
+    if (len == 0) {
+      out += "\xEF\xBF\xBD";
+      ++i;
+    } else {
+      out.append(text, i, len);
+      i += len;
+    }
+  }
+  return out;
+}
+
 std::string Copyright(const Image& image, const GltfExportOptions& options) {
-  if (!options.copyright.empty()) return options.copyright;
+  if (!options.copyright.empty()) return ValidUtf8(options.copyright);
   for (const auto& [key, value] : image.metadata) {
-    if (key == "copyright" && !value.empty()) return value;
+    if (key == "copyright" && !value.empty()) return ValidUtf8(value);
   }
   return "unspecified";
 }
@@ -374,7 +407,9 @@ StatusOr<GltfContainer> GltfContainerForPath(const std::string& path) {
                 path + ": a glTF output must end in .glb (binary) or .gltf (text)");
 }
 
-StatusOr<GltfExport> EncodeGltf(const Image& image, const GltfExportOptions& options) {
+namespace {
+
+StatusOr<GltfExport> EncodeGltfOrThrow(const Image& image, const GltfExportOptions& options) {
   SDVI_RETURN_IF_ERROR(CheckOptions(options));
   if (image.triangles.empty() || image.vertices.empty()) {
     return Status(StatusCode::kEmptyInput, "glTF export: the image has no triangles");
@@ -492,6 +527,19 @@ StatusOr<GltfExport> EncodeGltf(const Image& image, const GltfExportOptions& opt
   const std::string bytes = std::move(out).str();  // C++20: moves the stream's buffer out
   result.bytes.assign(bytes.begin(), bytes.end());
   return result;
+}
+
+}  // namespace
+
+StatusOr<GltfExport> EncodeGltf(const Image& image, const GltfExportOptions& options) {
+  // tinygltf's JSON writer throws (e.g. on text that is not UTF-8), allocations may fail.
+  try {
+    return EncodeGltfOrThrow(image, options);
+  } catch (const std::bad_alloc&) {
+    return Status(StatusCode::kLimitExceeded, "glTF export: out of memory");
+  } catch (const std::exception& e) {
+    return Status(StatusCode::kEncodeFailed, std::string("glTF export: ") + e.what());
+  }
 }
 
 StatusOr<GltfExport> WriteGltf(const std::string& path, const Image& image,
