@@ -2,8 +2,11 @@
 // against OpenCV's bicubic resize of the 512x512 raster in the same run (time, peak memory,
 // ratio), a x8 crop of both side by side as a PNG, and the metrics oracle check.
 //
-//   bench_render [--image PNG] [--out DIR] [--grid N] [--scale S] [--repeat K]
+//   bench_render [--image PNG] [--sdvi FILE] [--out DIR] [--grid N] [--scale S] [--repeat K]
 //                [--oracle DIR]   (DIR holds camera.png and camera_noisy_seed5_sigma20.png)
+// Without --sdvi the mesh is a jittered grid over --image with colours sampled from it
+// (timing only); with --sdvi (e.g. `sdvi vectorize lena_512.png -o lena.sdvi
+// --max-triangles 10000`) it is a vectorized image and --image its source raster.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -21,6 +24,9 @@
 #include <opencv2/imgproc.hpp>
 
 #include "sdvi/raster_io.h"
+#if defined(SDVI_BENCH_HAS_CODEC)
+#include "sdvi/codec.h"
+#endif
 #include "sdvi/render.h"
 #include "sdvi/subdiv.h"
 
@@ -150,7 +156,7 @@ int OracleCheck(const std::string& dir) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string image_path = "/work/shared/data/photos/lena_512.png", out_dir = "bench-out/render", oracle;
+  std::string image_path = "/work/shared/data/photos/lena_512.png", out_dir = "bench-out/render", oracle, sdvi_path;
   int grid = 71, repeat = 3;
   double scale = 8;
   for (int i = 1; i + 1 < argc; i += 2) {
@@ -161,16 +167,29 @@ int main(int argc, char** argv) {
     else if (k == "--scale") scale = std::atof(v.c_str());
     else if (k == "--repeat") repeat = std::max(1, std::atoi(v.c_str()));
     else if (k == "--oracle") oracle = v;
+    else if (k == "--sdvi") sdvi_path = v;
     else return std::fprintf(stderr, "unknown option %s\n", k.c_str()), 1;
   }
   if (!oracle.empty()) return OracleCheck(oracle);
 
   auto src = LoadRaster(image_path);
   if (!src.ok()) return std::fprintf(stderr, "%s\n", src.status().ToString().c_str()), 2;
-  const Image mesh = GridMesh(*src, grid);
+  Image mesh;
+  if (sdvi_path.empty()) {
+    mesh = GridMesh(*src, grid);
+  } else {
+#if defined(SDVI_BENCH_HAS_CODEC)
+    auto loaded = ReadImage(sdvi_path);
+    if (!loaded.ok()) return std::fprintf(stderr, "%s\n", loaded.status().ToString().c_str()), 2;
+    mesh = std::move(*loaded);
+#else
+    return std::fprintf(stderr, "--sdvi: this build has no .sdvi reader (sdvi_codec)\n"), 2;
+#endif
+  }
   const cv::Mat src8 = ToMat8(*src);
   const int W = int(std::lround(src->width * scale)), H = int(std::lround(src->height * scale));
-  std::printf("bench_render: %s %dx%d, mesh %zu vertices / %zu triangles, x%g -> %dx%d, %u hardware threads\n",
+  std::printf("bench_render: %s%s %s %dx%d, mesh %zu vertices / %zu triangles, x%g -> %dx%d, %u hardware threads\n",
+              sdvi_path.empty() ? "grid mesh over" : sdvi_path.c_str(), sdvi_path.empty() ? "" : " vectorized from",
               image_path.c_str(), src->width, src->height, mesh.vertices.size(), mesh.triangles.size(), scale, W, H,
               std::thread::hardware_concurrency());
 
