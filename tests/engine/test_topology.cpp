@@ -76,6 +76,14 @@ TEST_CASE("Refinement numbering and inherited tags", "[topology]") {
         CHECK(m->edges()[e] == Edge::Of(m->triangles()[f].v[k], m->triangles()[f].v[(k + 1) % 3]));
         tris_of_edge[e].push_back(f);
       }
+    // Neighbour tables: each edge appears once at each end, with the other end.
+    size_t links = 0;
+    for (uint32_t v = 0; v < m->num_vertices(); ++v) {
+      links += m->neighbours(v).size();
+      for (size_t i = 0; i < m->neighbours(v).size(); ++i)
+        CHECK(m->edges()[m->neighbour_edges(v)[i]] == Edge::Of(v, m->neighbours(v)[i]));
+    }
+    CHECK(links == 2 * m->num_edges());
     for (size_t e = 0; e < m->num_edges(); ++e) {
       tris_of_edge[e].resize(2, kNoIndex);
       CHECK(m->edge_triangles(e)[0] == tris_of_edge[e][0]);

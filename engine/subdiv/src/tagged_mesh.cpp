@@ -251,45 +251,41 @@ TaggedMesh TaggedMesh::Submesh(std::span<const uint32_t> triangles,
 }
 
 TaggedMesh TaggedMesh::Refine() const {
+  // Every table of the child is written once, in order (no zero fill, no second pass):
+  // on a virtual machine first-touch memory is most of the cost of a level.
   const uint32_t nv = num_vertices_;
   const size_t ne = edges_.size(), nt = triangles_.size();
+  const size_t child_edges = 2 * ne + 3 * nt;
   TaggedMesh child;
   child.num_vertices_ = static_cast<uint32_t>(nv + ne);
   child.triangles_ = RefinedTriangles();
-  internal::ReserveLarge(child.triangle_edges_, 4 * nt);
-  child.triangle_edges_.resize(4 * nt);
-  internal::ReserveLarge(child.edges_, 2 * ne + 3 * nt);
-  child.edges_.resize(2 * ne + 3 * nt);
-  child.edge_crease_.assign(2 * ne + 3 * nt, 0);
-  for (size_t e = 0; e < ne; ++e) {
-    const uint32_t m = nv + static_cast<uint32_t>(e);
-    child.edges_[2 * e] = Edge{edges_[e].a, m};
-    child.edges_[2 * e + 1] = Edge{edges_[e].b, m};
-    child.edge_crease_[2 * e] = child.edge_crease_[2 * e + 1] = edge_crease_[e];
-  }
+  child.vertex_tags_ = RefinedVertexTags();
   // Half of parent edge e on the side of its end x.
   auto half = [&](uint32_t e, uint32_t x) { return static_cast<uint32_t>(edges_[e].a == x ? 2 * e : 2 * e + 1); };
+  auto inner = [&](size_t t) { return static_cast<uint32_t>(2 * ne + 3 * t); };  // (m0,m1), (m1,m2), (m2,m0)
+
+  internal::ReserveLarge(child.triangle_edges_, 4 * nt);
   for (size_t t = 0; t < nt; ++t) {
     const auto [a, b, c] = triangles_[t].v;
     const auto [e0, e1, e2] = triangle_edges_[t];
-    const uint32_t m0 = nv + e0, m1 = nv + e1, m2 = nv + e2;
-    const uint32_t i0 = static_cast<uint32_t>(2 * ne + 3 * t);  // (m0, m1), (m1, m2), (m2, m0)
-    child.edges_[i0] = Edge::Of(m0, m1);
-    child.edges_[i0 + 1] = Edge::Of(m1, m2);
-    child.edges_[i0 + 2] = Edge::Of(m2, m0);
-    child.triangle_edges_[4 * t] = {half(e0, a), i0 + 2, half(e2, a)};
-    child.triangle_edges_[4 * t + 1] = {half(e0, b), half(e1, b), i0};
-    child.triangle_edges_[4 * t + 2] = {i0 + 1, half(e1, c), half(e2, c)};
-    child.triangle_edges_[4 * t + 3] = {i0, i0 + 1, i0 + 2};
+    const uint32_t i0 = inner(t);
+    child.triangle_edges_.push_back({half(e0, a), i0 + 2, half(e2, a)});
+    child.triangle_edges_.push_back({half(e0, b), half(e1, b), i0});
+    child.triangle_edges_.push_back({i0 + 1, half(e1, c), half(e2, c)});
+    child.triangle_edges_.push_back({i0, i0 + 1, i0 + 2});
   }
-  // Triangles of the child edges, in increasing order: a half edge lies in the corner
-  // children of its parent edge's triangles; an inner edge in a corner child and the
-  // middle child.
-  internal::ReserveLarge(child.edge_triangles_, child.edges_.size());
-  child.edge_triangles_.resize(child.edges_.size());
+
+  // Edges, their crease tags and their triangles (in increasing order): a half edge lies
+  // in the corner children of its parent edge's triangles; an inner edge in a corner child
+  // and the middle child.
+  internal::ReserveLarge(child.edges_, child_edges);
+  internal::ReserveLarge(child.edge_triangles_, child_edges);
+  child.edge_crease_.reserve(child_edges);
   for (size_t e = 0; e < ne; ++e) {
-    for (int side = 0; side < 2; ++side) {
-      const uint32_t end = side == 0 ? edges_[e].a : edges_[e].b;
+    const uint32_t m = nv + static_cast<uint32_t>(e);
+    for (const uint32_t end : {edges_[e].a, edges_[e].b}) {
+      child.edges_.push_back(Edge{end, m});
+      child.edge_crease_.push_back(edge_crease_[e]);
       std::array<uint32_t, 2> tris{kNoIndex, kNoIndex};
       for (int k = 0; k < 2; ++k) {
         const uint32_t t = edge_triangles_[e][k];
@@ -297,17 +293,57 @@ TaggedMesh TaggedMesh::Refine() const {
         const auto& v = triangles_[t].v;
         tris[k] = 4 * t + (v[0] == end ? 0 : v[1] == end ? 1 : 2);
       }
-      child.edge_triangles_[2 * e + side] = tris;
+      child.edge_triangles_.push_back(tris);
     }
   }
   for (size_t t = 0; t < nt; ++t) {
-    const uint32_t i0 = static_cast<uint32_t>(2 * ne + 3 * t), f = static_cast<uint32_t>(4 * t);
-    child.edge_triangles_[i0] = {f + 1, f + 3};
-    child.edge_triangles_[i0 + 1] = {f + 2, f + 3};
-    child.edge_triangles_[i0 + 2] = {f, f + 3};
+    const auto [e0, e1, e2] = triangle_edges_[t];
+    const uint32_t m0 = nv + e0, m1 = nv + e1, m2 = nv + e2, f = static_cast<uint32_t>(4 * t);
+    child.edges_.push_back(Edge::Of(m0, m1));
+    child.edges_.push_back(Edge::Of(m1, m2));
+    child.edges_.push_back(Edge::Of(m2, m0));
+    child.edge_triangles_.push_back({f + 1, f + 3});
+    child.edge_triangles_.push_back({f + 2, f + 3});
+    child.edge_triangles_.push_back({f, f + 3});
   }
-  child.BuildNeighbours();
-  child.vertex_tags_ = RefinedVertexTags();
+  child.edge_crease_.resize(child_edges, 0);
+
+  // Neighbours. A vertex point's are the edge points of its edges (same order); an edge
+  // point's are the vertex points of its ends, then for each of its triangles the edge
+  // points of the triangle's two other edges.
+  child.neighbour_offsets_.reserve(size_t{child.num_vertices_} + 1);
+  internal::ReserveLarge(child.neighbour_vertices_, 2 * child_edges);
+  internal::ReserveLarge(child.neighbour_edges_, 2 * child_edges);
+  child.neighbour_offsets_.push_back(0);
+  auto link = [&](uint32_t vertex, uint32_t edge) {
+    child.neighbour_vertices_.push_back(vertex);
+    child.neighbour_edges_.push_back(edge);
+  };
+  auto close_vertex = [&] { child.neighbour_offsets_.push_back(static_cast<uint32_t>(child.neighbour_vertices_.size())); };
+  for (uint32_t v = 0; v < nv; ++v) {
+    for (uint32_t e : neighbour_edges(v)) link(nv + e, half(e, v));
+    close_vertex();
+  }
+  for (size_t e = 0; e < ne; ++e) {
+    link(edges_[e].a, static_cast<uint32_t>(2 * e));
+    link(edges_[e].b, static_cast<uint32_t>(2 * e + 1));
+    for (uint32_t t : edge_triangles_[e]) {
+      if (t == kNoIndex) continue;
+      const auto& te = triangle_edges_[t];
+      const uint32_t i0 = inner(t);
+      if (te[0] == e) {
+        link(nv + te[1], i0);
+        link(nv + te[2], i0 + 2);
+      } else if (te[1] == e) {
+        link(nv + te[0], i0);
+        link(nv + te[2], i0 + 1);
+      } else {
+        link(nv + te[1], i0 + 1);
+        link(nv + te[0], i0 + 2);
+      }
+    }
+    close_vertex();
+  }
   return child;
 }
 
@@ -315,15 +351,14 @@ std::vector<Triangle> TaggedMesh::RefinedTriangles() const {
   const uint32_t nv = num_vertices_;
   std::vector<Triangle> out;
   internal::ReserveLarge(out, 4 * triangles_.size());
-  out.resize(4 * triangles_.size());
   for (size_t t = 0; t < triangles_.size(); ++t) {
     const auto [a, b, c] = triangles_[t].v;
     const auto [e0, e1, e2] = triangle_edges_[t];
     const uint32_t m0 = nv + e0, m1 = nv + e1, m2 = nv + e2;
-    out[4 * t] = Triangle{{a, m0, m2}};
-    out[4 * t + 1] = Triangle{{m0, b, m1}};
-    out[4 * t + 2] = Triangle{{m2, m1, c}};
-    out[4 * t + 3] = Triangle{{m0, m1, m2}};
+    out.push_back(Triangle{{a, m0, m2}});
+    out.push_back(Triangle{{m0, b, m1}});
+    out.push_back(Triangle{{m2, m1, c}});
+    out.push_back(Triangle{{m0, m1, m2}});
   }
   return out;
 }
