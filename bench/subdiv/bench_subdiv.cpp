@@ -7,7 +7,8 @@
 //
 // Each (size, level, engine) runs in its own child process, so that its peak resident
 // memory (getrusage of the child) is its own. Times are the best of --reps runs, wall
-// clock. Operations, each timed on both engines:
+// clock, with the CPU time (all threads) of that run beside it. Operations, each timed on
+// both engines:
 //   refine    topology of level r (sdvi: TaggedMesh::Refine x r; OSD: RefineUniform)
 //   stencils  stencil table of the level-r vertices from the control mesh
 //             (sdvi: BuildLimitSurface with to_limit = false; OSD: RefineUniform +
@@ -23,6 +24,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -52,17 +54,31 @@ const char* const kOpNames[kNumOps] = {"refine", "stencils", "limit", "eval"};
 struct Result {
   int ok = 0;
   double seconds[kNumOps] = {};
+  double cpu_seconds[kNumOps] = {};
   double points[kNumOps] = {};  // fine vertices (or limit points) each op produced
   long peak_kib = 0;
   char error[160] = {};
 };
 
-double BestOf(int reps, const std::function<void()>& run) {
+double CpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+// Best wall-clock time of reps runs; *cpu receives the process CPU time (all threads) of
+// that run. On a shared machine the CPU time is the steadier figure.
+double BestOf(int reps, const std::function<void()>& run, double* cpu) {
   double best = 1e30;
   for (int i = 0; i < reps; ++i) {
     const auto t0 = Clock::now();
+    const double c0 = CpuSeconds();
     run();
-    best = std::min(best, std::chrono::duration<double>(Clock::now() - t0).count());
+    const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
+    if (wall < best) {
+      best = wall;
+      *cpu = CpuSeconds() - c0;
+    }
   }
   return best;
 }
@@ -75,7 +91,7 @@ Result RunSdvi(const sdvi::Image& image, int levels, int reps) {
     sdvi::TaggedMesh m = std::move(mesh).value();
     for (int k = 0; k < levels; ++k) m = m.Refine();
     r.points[kRefine] = m.num_vertices();
-  });
+  }, &r.cpu_seconds[kRefine]);
   sdvi::LimitSurfaceOptions options;
   options.levels = levels;
   options.max_fine_triangles = uint64_t{1} << 40;
@@ -84,17 +100,17 @@ Result RunSdvi(const sdvi::Image& image, int levels, int reps) {
   r.seconds[kStencils] = BestOf(reps, [&] {
     fine = sdvi::BuildLimitSurface(image, options).value();
     r.points[kStencils] = fine.stencils.rows();
-  });
+  }, &r.cpu_seconds[kStencils]);
   options.to_limit = true;
   r.seconds[kLimit] = BestOf(reps, [&] {
     auto limit = sdvi::BuildLimitSurface(image, options);
     r.points[kLimit] = limit->stencils.rows();
-  });
+  }, &r.cpu_seconds[kLimit]);
   std::vector<sdvi::Vertex> out(fine.stencils.rows());
   r.seconds[kEval] = BestOf(reps, [&] {
     fine.stencils.Apply(reinterpret_cast<const float*>(image.vertices.data()), 5, reinterpret_cast<float*>(out.data()),
                         5, 5);
-  });
+  }, &r.cpu_seconds[kEval]);
   r.points[kEval] = fine.stencils.rows();
   r.ok = 1;
   return r;
@@ -161,7 +177,7 @@ Result RunOsd(const sdvi::Image& image, int levels, int reps) {
     refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(levels));
     r.points[kRefine] = refiner->GetLevel(levels).GetNumVertices();
     delete refiner;
-  });
+  }, &r.cpu_seconds[kRefine]);
   const Far::StencilTable* table = nullptr;
   r.seconds[kStencils] = BestOf(reps, [&] {
     delete table;
@@ -173,7 +189,7 @@ Result RunOsd(const sdvi::Image& image, int levels, int reps) {
     table = Far::StencilTableFactory::Create(*refiner, options);
     r.points[kStencils] = table->GetNumStencils();
     delete refiner;
-  });
+  }, &r.cpu_seconds[kStencils]);
   // Limit points: the barycentric lattice i/2^r, j/2^r (i + j <= 2^r) of every triangle.
   const int n = 1 << levels;
   std::vector<float> s, t;
@@ -199,10 +215,10 @@ Result RunOsd(const sdvi::Image& image, int levels, int reps) {
     r.points[kLimit] = limit->GetNumStencils();
     delete limit;
     delete refiner;
-  });
+  }, &r.cpu_seconds[kLimit]);
   std::vector<OsdVertex> in(image.vertices.size()), out(table->GetNumStencils());
   for (size_t i = 0; i < in.size(); ++i) std::memcpy(in[i].v, &image.vertices[i], sizeof(in[i].v));
-  r.seconds[kEval] = BestOf(reps, [&] { table->UpdateValues(in.data(), out.data()); });
+  r.seconds[kEval] = BestOf(reps, [&] { table->UpdateValues(in.data(), out.data()); }, &r.cpu_seconds[kEval]);
   r.points[kEval] = table->GetNumStencils();
   delete table;
   r.ok = 1;
@@ -278,8 +294,9 @@ int main(int argc, char** argv) {
       return 1;
     }
   }
-  std::printf("%8s %6s %5s %10s %-9s %10s %10s %10s %10s %7s %9s %9s\n", "control", "tris", "level", "fine_verts",
-              "op", "sdvi_ms", "osd_ms", "sdvi_Mv/s", "osd_Mv/s", "ratio", "sdvi_MiB", "osd_MiB");
+  std::printf("%8s %6s %5s %10s %-9s %10s %10s %10s %10s %10s %10s %7s %9s %9s\n", "control", "tris", "level",
+              "fine_verts", "op", "sdvi_ms", "osd_ms", "sdvi_cpu", "osd_cpu", "sdvi_Mv/s", "osd_Mv/s", "ratio",
+              "sdvi_MiB", "osd_MiB");
   for (int size : sizes) {
     const sdvi::Image image = sdvi::bench::FeatureGridImage(size);
     for (int level : levels) {
@@ -297,10 +314,11 @@ int main(int argc, char** argv) {
       for (int op = 0; op < kNumOps; ++op) {
         const double ours_rate = ours.ok ? ours.points[op] / ours.seconds[op] / 1e6 : 0;
         const double theirs_rate = theirs.ok ? theirs.points[op] / theirs.seconds[op] / 1e6 : 0;
-        std::printf("%8zu %6zu %5d %10.0f %-9s %10.2f %10.2f %10.2f %10.2f %7.2f %9.1f %9.1f\n", image.vertices.size(),
-                    image.triangles.size(), level, ours.points[kStencils], kOpNames[op], 1e3 * ours.seconds[op],
-                    1e3 * theirs.seconds[op], ours_rate, theirs_rate, theirs_rate > 0 ? ours_rate / theirs_rate : 0.0,
-                    ours.peak_kib / 1024.0, theirs.peak_kib / 1024.0);
+        std::printf("%8zu %6zu %5d %10.0f %-9s %10.2f %10.2f %10.2f %10.2f %10.2f %10.2f %7.2f %9.1f %9.1f\n",
+                    image.vertices.size(), image.triangles.size(), level, ours.points[kStencils], kOpNames[op],
+                    1e3 * ours.seconds[op], 1e3 * theirs.seconds[op], 1e3 * ours.cpu_seconds[op],
+                    1e3 * theirs.cpu_seconds[op], ours_rate, theirs_rate,
+                    theirs_rate > 0 ? ours_rate / theirs_rate : 0.0, ours.peak_kib / 1024.0, theirs.peak_kib / 1024.0);
       }
       std::fflush(stdout);
     }
