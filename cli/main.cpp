@@ -26,7 +26,8 @@ const Command kCommands[] = {
     {"convert", sdvi::cli::RunConvert, "IN.json|IN.sdvi OUT.sdvi|OUT.json"},
     {"subdivide", sdvi::cli::RunSubdivide, "IN.sdvi --levels r [--limit] -o OUT.ply"},
     {"export-gltf", sdvi::cli::RunExportGltf,
-     "IN.sdvi -o OUT.glb|OUT.gltf [--levels r] [--draco] [--control-mesh]"},
+     "IN.sdvi -o OUT.glb|OUT.gltf [--levels r] [--draco] [--position-bits N] [--color-bits N] "
+     "[--speed S] [--control-mesh] [--copyright TEXT] [--quiet]"},
     {"compress", sdvi::cli::RunCompress,
      "IN.sdvi -o OUT.sdvi [--position-bits N] [--color-bits N] [--speed S]"},
     {"decompress", sdvi::cli::RunDecompress, "IN.sdvi -o OUT.sdvi"},
