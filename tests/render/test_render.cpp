@@ -200,3 +200,42 @@ TEST_CASE("Render reports bad input with specific codes", "[render][errors]") {
   REQUIRE(empty.ok());
   for (float v : empty->data) CHECK(v == 0.0f);
 }
+
+TEST_CASE("Object images through Render: alpha 0 outside and in holes, coverage on both edges", "[render][alpha]") {
+  // An annulus: rings of radius 4 and 10 around (12, 12), 24 vertices each, colour (200, 60, 30).
+  Image img;
+  img.width = img.height = 24;
+  const int n = 24;
+  for (double radius : {4.0, 10.0})
+    for (int k = 0; k < n; ++k) {
+      const double a = 2 * M_PI * k / n;
+      img.vertices.push_back({float(12 + radius * std::cos(a)), float(12 + radius * std::sin(a)), 200, 60, 30});
+    }
+  for (uint32_t k = 0; k < uint32_t(n); ++k) {
+    const uint32_t i0 = k, i1 = (k + 1) % n, o0 = n + k, o1 = n + (k + 1) % n;
+    img.triangles.push_back({{i0, o0, o1}});
+    img.triangles.push_back({{i0, o1, i1}});
+  }
+  RenderOptions o = AtScale(img, 3, 3);
+  auto r = Render(img, o);
+  REQUIRE(r.ok());
+  auto alpha_at = [&](double x, double y) { return r->at(int(x * 3), int(y * 3), 3); };
+  CHECK(alpha_at(12, 12) == 0.0f);   // the hole
+  CHECK(alpha_at(0.5, 0.5) == 0.0f); // outside
+  CHECK(alpha_at(12, 12 + 7) == 1.0f);
+  CHECK(alpha_at(12 + 7, 12) == 1.0f);
+  int partial = 0, partial_inner = 0;
+  for (int j = 0; j < o.viewport.height; ++j)
+    for (int i = 0; i < o.viewport.width; ++i) {
+      const float a = r->at(i, j, 3);
+      if (a <= 0 || a >= 1) continue;
+      ++partial;
+      const double d = std::hypot((i + 0.5) / 3 - 12, (j + 0.5) / 3 - 12);
+      partial_inner += d < 7;
+      REQUIRE(r->at(i, j, 0) == Approx(200).margin(1e-3));  // edge pixels keep the colour
+      REQUIRE(d > 3);
+      REQUIRE(d < 10.5);
+    }
+  CHECK(partial_inner > 40);            // the hole's edge is anti-aliased
+  CHECK(partial - partial_inner > 100); // and the outer edge
+}
