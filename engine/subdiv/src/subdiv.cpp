@@ -242,10 +242,15 @@ void ComposeBlock(size_t begin, size_t end, const MaskRow& mask_row, const Spars
   }
 }
 
+// The hardware's threads, at most 8 (asked once: the query reads a file on Linux).
+unsigned HardwareThreads() {
+  static const unsigned threads = std::min(8u, std::max(1u, std::thread::hardware_concurrency()));
+  return threads;
+}
+
 // Threads for num_rows rows of work (one for small jobs); requested = 0: the hardware's.
 unsigned ThreadsFor(size_t num_rows, int requested) {
-  const unsigned hw = requested > 0 ? static_cast<unsigned>(requested)
-                                    : std::min(8u, std::max(1u, std::thread::hardware_concurrency()));
+  const unsigned hw = requested > 0 ? static_cast<unsigned>(requested) : HardwareThreads();
   return static_cast<unsigned>(std::clamp<size_t>(num_rows / 16384, 1, hw));
 }
 
@@ -342,8 +347,7 @@ constexpr ApplyFunction kApplyByDims[8] = {ApplyRows<1>, ApplyRows<2>, ApplyRows
 void StencilTable::Apply(const float* in, size_t in_stride, float* out, size_t out_stride, int dims) const {
   const size_t n = rows();
   // Large tables are split over threads by rows (each row is written by one thread).
-  const unsigned threads = static_cast<unsigned>(
-      std::clamp<size_t>(n / 65536, 1, std::min(8u, std::max(1u, std::thread::hardware_concurrency()))));
+  const unsigned threads = n < 2 * 65536 ? 1u : static_cast<unsigned>(std::clamp<size_t>(n / 65536, 1, HardwareThreads()));
   auto run = [&](size_t begin, size_t end) {
     for (int d0 = 0; d0 < dims; d0 += 8) {
       const int nd = std::min(8, dims - d0);
