@@ -53,6 +53,13 @@ TEST_CASE("Stencil evaluation equals direct refinement", "[stencils]") {
       CHECK(surface->vertex_tags == direct->vertex_tags);
       CHECK(surface->crease_edges == direct->crease_edges);
       CHECK(surface->triangles.size() == image.triangles.size() << (2 * levels));
+      // Each crease edge splits in two per level; corners stay the control corners.
+      auto control = TaggedMesh::FromImage(image);
+      REQUIRE(control.ok());
+      CHECK(surface->crease_edges.size() == control->CreaseEdges().size() << levels);
+      const auto corners = std::count(surface->vertex_tags.begin(), surface->vertex_tags.end(), VertexTag::kCorner);
+      CHECK(corners == std::count(control->vertex_tags().begin(), control->vertex_tags().end(), VertexTag::kCorner));
+      for (uint32_t v = 0; v < image.vertices.size(); ++v) CHECK(surface->vertex_tags[v] == control->tag(v));
       float worst = 0;
       for (size_t i = 0; i < fine.size(); ++i) worst = std::max(worst, MaxDiff(fine[i], direct->vertices[i]));
       INFO("levels " << levels << " to_limit " << to_limit);
