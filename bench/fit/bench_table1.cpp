@@ -59,6 +59,7 @@ bool ApplyOverrides(const Config& c, sdvi::VectorizeOptions& o) {
     else if (name == "initial_fraction") o.initial_fraction = v;
     else if (name == "growth") o.growth = v;
     else if (name == "spacing_exponent") o.spacing_exponent = v;
+    else if (name == "feature_clearance") o.feature_clearance = v;
     else if (name == "max_feature_fraction") o.max_feature_fraction = v;
     else if (name == "detect_edges") o.features.detect_edges = v != 0;
     else if (name == "rho") o.mesh.rho = float(v);

@@ -169,7 +169,7 @@ StatusOr<VectorizeResult> Vectorize(const Raster& raster, const Raster* mask,
   // 3-4. Initial interior samples and the control mesh.
   phase("mesh");
   start = Clock::now();
-  const double clearance = std::max(1.0, 0.5 * options.min_spacing);
+  const double clearance = std::max(1.0, options.feature_clearance);
   std::vector<uint8_t> blocked = BlockedPixels(raster, mask, nullptr, curves, clearance);
   const double initial_count = std::max(4.0, options.initial_fraction * vertex_budget);
   const double grid_spacing = std::sqrt(2.0 * double(domain_pixels) / (std::sqrt(3.0) * initial_count));
@@ -252,17 +252,33 @@ StatusOr<VectorizeResult> Vectorize(const Raster& raster, const Raster* mask,
     Image candidate;
     std::vector<Point2> next;
     bool accepted = false;
-    for (int attempt = 0; attempt < 5 && !added.empty(); ++attempt) {
+    // The triangulation may add Steiner points: a round that overshoots the budget (the
+    // triangle cap, or the vertex budget by more than 3%) is redone with fewer samples,
+    // cut in proportion to the overshoot (the worst-error samples stay).
+    const double vertices_before = double(mesh.vertices.size());
+    const double triangles_before = double(mesh.triangles.size());
+    for (int attempt = 0; attempt < 6 && !added.empty(); ++attempt) {
       next = samples;
       next.insert(next.end(), added.begin(), added.end());
       SDVI_ASSIGN_OR_RETURN(candidate, BuildControlMesh(width, height, curves, next, mesh_options));
-      if (triangle_cap == 0 || candidate.triangles.size() <= triangle_cap) {
-        accepted = true;
-        break;
+      double allowed = 0, grown = 0;
+      if (triangle_cap > 0) {
+        if (candidate.triangles.size() <= triangle_cap) {
+          accepted = true;
+          break;
+        }
+        allowed = double(triangle_cap) - triangles_before;
+        grown = double(candidate.triangles.size()) - triangles_before;
+      } else {
+        if (double(candidate.vertices.size()) <= 1.03 * vertex_budget + 1) {
+          accepted = true;
+          break;
+        }
+        allowed = vertex_budget - vertices_before;
+        grown = double(candidate.vertices.size()) - vertices_before;
       }
-      const size_t excess = candidate.triangles.size() - triangle_cap;
-      const size_t cut = std::min(added.size(), (excess + 1) / 2 + added.size() / 10 + 1);
-      added.resize(added.size() - cut);
+      const double keep = grown > 0 ? 0.95 * double(added.size()) * std::max(0.0, allowed) / grown : 0;
+      added.resize(std::min(added.size() - 1, size_t(keep)));
     }
     seconds.triangulate += SecondsSince(start);
     if (!accepted) break;

@@ -5,7 +5,8 @@
 // Refinement (DESIGN.md 6.6). After each fit the per-pixel error e(p) = sum over R, G, B of
 // (I(p) - reconstruction(p))^2 is averaged over a small Gaussian window (sigma
 // error_blur_sigma px) so that single noisy pixels do not attract vertices. Pixels whose
-// averaged RMS error exceeds error_threshold are candidates; they are visited in order of
+// averaged RMS error exceeds error_threshold, and that lie farther than feature_clearance
+// from every crease edge (features, image border), are candidates; they are visited in order of
 // decreasing error (ties by pixel index) and a candidate becomes a new interior sample when
 // it lies farther than the current spacing from every control vertex and from every
 // sample chosen before it. The spacing is spacing_factor * sqrt(domain pixels / target
@@ -48,6 +49,7 @@ struct VectorizeOptions {
   double spacing_factor = 0.25;
   double min_spacing = 2.0;        // px
   double spacing_exponent = 0;     // SpacingRule::exponent (0: fixed spacing)
+  double feature_clearance = 1.0;  // px: no interior sample this close to a crease edge
   double initial_fraction = 0.15;  // share of the vertex budget placed as the initial grid
   double growth = 1.0;             // a round adds at most growth x the current vertex count
   // Features of at most this share of the vertex budget are kept (the longest first).
