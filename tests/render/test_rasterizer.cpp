@@ -52,6 +52,15 @@ TEST_CASE("A mesh tiling the rectangle covers every pixel exactly once, several 
     INFO("scale " << scale << " size " << vp.width << "x" << vp.height);
     CHECK(bad == 0);
   }
+  // A magnified region: triangles much larger than the viewport, vertices far outside it.
+  for (double scale : {40.0, 97.3}) {
+    const Viewport vp{161, 123, scale, scale, 13.37, 9.11};
+    const std::vector<int> hits = HitCounts(img, vp);
+    int bad = 0;
+    for (int h : hits) bad += h != 1;
+    INFO("region at scale " << scale);
+    CHECK(bad == 0);
+  }
 }
 
 TEST_CASE("Shared edges and vertices through pixel centres are owned exactly once", "[render][fill]") {
