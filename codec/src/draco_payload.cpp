@@ -239,6 +239,15 @@ double AttributeRange(const Image& image, bool colors, double* max_abs) {
   return range > 0 ? range : 1.0;
 }
 
+// Quantization defaults (codec.h, DefaultPositionBits / DefaultColorBits).
+constexpr double kPositionStep = 1.0 / 64;    // px, without a reference MSE
+constexpr double kColorStep = 0.25;           // 8-bit levels, without a reference MSE
+constexpr double kMinPositionStep = 1.0 / 512, kMaxPositionStep = 0.25;  // px, with one
+constexpr double kMinColorStep = 1.0 / 32, kMaxColorStep = 4.0;          // levels, with one
+constexpr double kErrorBudget = 0.01;         // added MSE / reference MSE (0.043 dB)
+constexpr double kPositionMseFactor = 13.0;   // added MSE per squared position step
+constexpr double kColorMseFactor = 1.0 / 24;  // added MSE per squared colour step
+
 int BitsForStep(double extent, double step) {
   const double levels = extent / step + 1;
   const int bits = static_cast<int>(std::ceil(std::log2(std::max(levels, 2.0))));
@@ -329,16 +338,24 @@ bool SameMesh(const DecodedMesh& a, const DecodedMesh& b) {
 
 }  // namespace
 
-int DefaultPositionBits(const Image& image) {
+int DefaultPositionBits(const Image& image, double reference_mse) {
   double max_abs = 0;
   const double extent = std::max({double(image.width), double(image.height),
                                   image.vertices.empty() ? 0.0 : AttributeRange(image, false, &max_abs)});
-  return BitsForStep(extent, 1.0 / 32);
+  double step = kPositionStep;
+  if (reference_mse > 0)
+    step = std::clamp(std::sqrt(kErrorBudget * reference_mse / (2 * kPositionMseFactor)), kMinPositionStep,
+                      kMaxPositionStep);
+  return BitsForStep(extent, step);
 }
 
-int DefaultColorBits(const Image& image) {
+int DefaultColorBits(const Image& image, double reference_mse) {
   double max_abs = 0;
-  return BitsForStep(AttributeRange(image, true, &max_abs), 0.5);
+  double step = kColorStep;
+  if (reference_mse > 0)
+    step = std::clamp(std::sqrt(kErrorBudget * reference_mse / (2 * kColorMseFactor)), kMinColorStep,
+                      kMaxColorStep);
+  return BitsForStep(AttributeRange(image, true, &max_abs), step);
 }
 
 ErrorBound CompressionErrorBound(const Image& image, int position_bits, int color_bits) {
@@ -347,7 +364,7 @@ ErrorBound CompressionErrorBound(const Image& image, int position_bits, int colo
     double max_abs = 0;
     const double range = AttributeRange(image, colors, &max_abs);
     const double step = range / double((uint64_t{1} << bits) - 1);
-    return 0.5 * step + 8 * FLT_EPSILON * (max_abs + range);
+    return 0.5 * step + 4 * FLT_EPSILON * (max_abs + range);
   };
   return {bound(false, position_bits), bound(true, color_bits)};
 }
@@ -424,8 +441,12 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
     }
   }
 
-  const int position_bits = options.position_bits ? options.position_bits : DefaultPositionBits(image);
-  const int color_bits = options.color_bits ? options.color_bits : DefaultColorBits(image);
+  if (!(options.reference_mse >= 0) || !std::isfinite(options.reference_mse))
+    return Status(StatusCode::kInvalidArgument, "reference MSE must be finite and >= 0");
+  const int position_bits =
+      options.position_bits ? options.position_bits : DefaultPositionBits(image, options.reference_mse);
+  const int color_bits =
+      options.color_bits ? options.color_bits : DefaultColorBits(image, options.reference_mse);
   const ErrorBound bound = CompressionErrorBound(image, position_bits, color_bits);
 
   // Try, in order: edgebreaker without ids (decoded order = Draco's), edgebreaker with

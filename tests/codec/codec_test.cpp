@@ -159,13 +159,13 @@ TEST_CASE("meshes edgebreaker cannot carry still round trip (isolated vertex, no
 TEST_CASE("default quantization is chosen from the image size", "[codec]") {
   Image small = sdvi::testing::SyntheticGridImage(64, 64, 5, 5);
   Image large = sdvi::testing::SyntheticGridImage(4096, 2048, 5, 5);
-  CHECK(sdvi::DefaultPositionBits(small) == 12);  // 64 * 32 steps need 2^12 - 1 >= 2048
-  CHECK(sdvi::DefaultPositionBits(large) == 18);
+  CHECK(sdvi::DefaultPositionBits(small) == 13);  // 64 * 64 steps need 2^13 - 1 >= 4096
+  CHECK(sdvi::DefaultPositionBits(large) == 19);
   CHECK(sdvi::DefaultColorBits(small) >= 8);
   const auto bound = sdvi::CompressionErrorBound(large, sdvi::DefaultPositionBits(large),
                                                  sdvi::DefaultColorBits(large));
-  CHECK(bound.position <= 1.0 / 64 + 1e-3);
-  CHECK(bound.color <= 0.25 + 1e-3);
+  CHECK(bound.position <= 1.0 / 128 + 0.004);  // half a step + float rounding at 4096
+  CHECK(bound.color <= 0.125 + 1e-3);
 }
 
 TEST_CASE("Draco payload is at most a quarter of the paper's raw size", "[codec]") {
@@ -325,4 +325,23 @@ TEST_CASE("a feature layer naming missing vertices or polylines is rejected", "[
   CompressOptions options;
   options.feature_layer = false;
   CHECK(sdvi::EncodeDracoPayload(image, options).ok());
+}
+
+TEST_CASE("a reference MSE coarsens the default quantization within its limits", "[codec]") {
+  const Image image = sdvi::testing::SyntheticGridImage(512, 512, 10, 10);
+  const int p0 = sdvi::DefaultPositionBits(image), c0 = sdvi::DefaultColorBits(image);
+  CHECK(sdvi::DefaultPositionBits(image, 1e-6) == 19);  // 1/512 px: 2^19 - 1 >= 512 * 512
+  CHECK(sdvi::DefaultColorBits(image, 1e-6) > c0);
+  CHECK(sdvi::DefaultPositionBits(image, 100) < p0);    // a 28 dB fit tolerates coarser steps
+  CHECK(sdvi::DefaultColorBits(image, 100) < c0);
+  CHECK(sdvi::DefaultPositionBits(image, 1e9) == 12);   // at most 1/4 px: 2048 steps over 512
+  CompressOptions options;
+  options.reference_mse = 100;
+  const Encoded e = MustEncode(image, options);
+  auto info = sdvi::InspectDracoPayload(e.payload, "x");
+  REQUIRE(info.ok());
+  CHECK(info->position_bits == sdvi::DefaultPositionBits(image, 100));
+  CHECK(info->color_bits == sdvi::DefaultColorBits(image, 100));
+  options.reference_mse = -1;
+  CHECK(sdvi::EncodeDracoPayload(image, options).status().code() == StatusCode::kInvalidArgument);
 }

@@ -38,18 +38,28 @@ struct CompressOptions {
   int speed = 0;          // Draco encoding/decoding speed 0 (smallest) .. 10 (fastest)
   bool keep_vertex_order = false;  // store original vertex ids (costs bytes)
   bool feature_layer = true;       // carry polylines and pairs in the payload (compactly)
+  // MSE (8-bit units, over R, G, B) of the image's render against its source, when known
+  // (the vectorizer reports it): lets the default quantization spend 1% of it (see
+  // DefaultPositionBits). 0 = unknown: the conservative defaults.
+  double reference_mse = 0;
 };
 
-// Default position quantization: the smallest bit count whose step is at most 1/32
-// source pixel over max(width, height, extent of the vertex positions), at least 8
-// (15 bits for 512 x 512). Colour-discontinuity pairs can be a fraction of a pixel apart,
-// so positions need sub-pixel steps: at 1/16 pixel the render of tango_face-smile lost
-// 0.038 dB against the raw file's render, at 1/32 0.008 dB.
-int DefaultPositionBits(const Image& image);
-// Default colour quantization: the smallest bit count whose step is at most half an
-// 8-bit level over the colour range of the vertices (at least 8 bits: 9 bits for 0..255;
-// control colours overshoot 0..255, typically 10 bits).
-int DefaultColorBits(const Image& image);
+// Default position quantization: the smallest bit count (at least 8) whose step over
+// max(width, height, extent of the vertex positions) is at most s_p. Without a reference
+// MSE s_p = 1/64 px (16 bits for 512 x 512): colour-discontinuity pairs can be a fraction
+// of a pixel apart, so positions need fine steps (measured on vectorized data: at 1/16 px
+// tango_face-smile's render lost 0.038 dB against the raw file's render, at 1/32 0.008 dB;
+// matcap_clay_studio, fitted to 57 dB, lost 0.11 dB at 1/32 px and 1/2 level).
+// With a reference MSE M (CompressOptions::reference_mse > 0) the steps follow from a
+// distortion budget: quantization adds about 13 s_p^2 (measured worst case, sharp
+// graphics) + s_c^2 / 24 (colour step s_c) to the MSE; each gets half of 0.01 M (a PSNR
+// drop of ~0.043 dB): s_p = sqrt(0.01 M / 26) clamped to [1/512, 1/4] px.
+int DefaultPositionBits(const Image& image, double reference_mse = 0);
+// Default colour quantization: the smallest bit count (at least 8) whose step over the
+// colour range of the vertices is at most s_c: 1/4 of an 8-bit level without a reference
+// MSE (10 bits for 0..255; control colours overshoot 0..255), with one
+// s_c = sqrt(0.12 M) clamped to [1/32, 4] levels.
+int DefaultColorBits(const Image& image, double reference_mse = 0);
 
 // Upper bounds of |decoded - original| for positions and colours of image at the
 // given (resolved, non-zero) bit counts: half a Draco quantization step, where the step
