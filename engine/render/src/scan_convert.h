@@ -110,10 +110,6 @@ inline void ScanSpans(const TriangleSetup& s, int row0, int row1, Span&& span) {
     y1[k] = s.y[a1];
     c[k] = -dy * (kHalf - s.x[a1]);
   }
-  // Span ends: the crossing -t / a estimated in floating point (no integer division per
-  // row), then settled exactly with the integer test a * i + t >= 0.
-  double inv_a[3];
-  for (int k = 0; k < 3; ++k) inv_a[k] = a[k] != 0 ? 1.0 / double(a[k]) : 0.0;
   for (int j = j0; j <= j1; ++j) {
     const int64_t py = int64_t(j) * kOne + kHalf;
     int64_t lo = s.i0, hi = s.i1;
@@ -121,23 +117,12 @@ inline void ScanSpans(const TriangleSetup& s, int row0, int row1, Span&& span) {
     for (int k = 0; k < 3; ++k) {
       b[k] = dx[k] * (py - y1[k]) + c[k];  // E_k at i = 0
       const int64_t t = b[k] + s.bias[k];  // owned iff a[k] * i + t >= 0
-      if (a[k] == 0) {
-        if (t < 0) lo = hi + 1;
-        continue;
-      }
-      // Monotone in i: settle the estimate exactly, within [lo - 1, hi + 1].
-      const double cross = std::clamp(-double(t) * inv_a[k], double(lo - 1), double(hi + 1));
-      if (a[k] > 0) {  // owned for i >= first
-        int64_t first = int64_t(std::ceil(cross));
-        while (first <= hi && a[k] * first + t < 0) ++first;
-        while (first > lo && a[k] * (first - 1) + t >= 0) --first;
-        lo = std::max(lo, first);
-      } else {  // owned for i <= last
-        int64_t last = int64_t(std::floor(cross));
-        while (last >= lo && a[k] * last + t < 0) --last;
-        while (last < hi && a[k] * (last + 1) + t >= 0) ++last;
-        hi = std::min(hi, last);
-      }
+      if (a[k] > 0)
+        lo = std::max(lo, CeilDiv(-t, a[k]));
+      else if (a[k] < 0)
+        hi = std::min(hi, FloorDiv(t, -a[k]));
+      else if (t < 0)
+        lo = hi + 1;
     }
     if (lo > hi) continue;
     const int64_t e[3] = {a[0] * lo + b[0], a[1] * lo + b[1], a[2] * lo + b[2]};
