@@ -7,6 +7,8 @@
 #include "sdvi/codec.h"
 #include "sdvi/file_util.h"
 #include "sdvi/format.h"
+#include "sdvi/raster_io.h"
+#include "sdvi/render.h"
 
 namespace sdvi::cli {
 namespace {
@@ -20,11 +22,26 @@ StatusOr<std::string> InputAndOutput(const Args& args, const char* command) {
   return args.positional()[0];
 }
 
+// MSE (8-bit units) of image's render at its own size against the reference raster.
+StatusOr<double> ReferenceMse(const Image& image, const std::string& reference_path) {
+  SDVI_ASSIGN_OR_RETURN(Raster reference, LoadRaster(reference_path));
+  if (uint32_t(reference.width) != image.width || uint32_t(reference.height) != image.height)
+    return Status(StatusCode::kInvalidArgument,
+                  reference_path + ": the reference is " + std::to_string(reference.width) + "x" +
+                      std::to_string(reference.height) + ", the image " + std::to_string(image.width) +
+                      "x" + std::to_string(image.height));
+  RenderOptions options;
+  options.viewport = Viewport::Identity(static_cast<int>(image.width), static_cast<int>(image.height));
+  SDVI_ASSIGN_OR_RETURN(Raster render, Render(image, options));
+  SDVI_ASSIGN_OR_RETURN(ImageMetrics metrics, CompareImages(render, reference));
+  return metrics.mse;
+}
+
 }  // namespace
 
 int RunCompress(const CommandArgs& raw_args) {
   const std::string command = "compress";
-  auto parsed = Args::Parse(raw_args, {{"-o", "--position-bits", "--color-bits", "--speed"},
+  auto parsed = Args::Parse(raw_args, {{"-o", "--position-bits", "--color-bits", "--speed", "--reference", "--reference-mse"},
                                        {"--keep-vertex-order", "--quiet"}});
   if (!parsed.ok()) return ReportError(command, parsed.status());
   const Args& args = *parsed;
@@ -35,8 +52,16 @@ int RunCompress(const CommandArgs& raw_args) {
   auto position_bits = args.GetInt("--position-bits", 0);
   auto color_bits = args.GetInt("--color-bits", 0);
   auto speed = args.GetInt("--speed", 0);
+  auto reference_mse = args.GetDouble("--reference-mse", 0);
   for (const auto* v : {&position_bits, &color_bits, &speed})
     if (!v->ok()) return ReportError(command, v->status());
+  if (!reference_mse.ok()) return ReportError(command, reference_mse.status());
+  if (*reference_mse < 0)
+    return ReportError(command, Status(StatusCode::kInvalidArgument, "--reference-mse must be >= 0"));
+  if (args.get("--reference") && args.get("--reference-mse"))
+    return ReportError(command, Status(StatusCode::kInvalidArgument,
+                                       "give --reference IMG or --reference-mse M, not both"));
+  options.reference_mse = *reference_mse;
   options.position_bits = *position_bits;
   options.color_bits = *color_bits;
   options.speed = *speed;
@@ -48,6 +73,11 @@ int RunCompress(const CommandArgs& raw_args) {
 
   auto image = ReadImage(*input);
   if (!image.ok()) return ReportError(command, image.status());
+  if (auto reference = args.get("--reference")) {
+    auto mse = ReferenceMse(*image, *reference);
+    if (!mse.ok()) return ReportError(command, mse.status());
+    options.reference_mse = *mse;
+  }
   auto bytes = EncodeImage(*image, &options, *input);
   if (!bytes.ok()) return ReportError(command, bytes.status());
   if (Status s = WriteFileAtomic(output, *bytes); !s.ok()) return ReportError(command, s);
@@ -55,11 +85,13 @@ int RunCompress(const CommandArgs& raw_args) {
     const uint64_t paper = PaperSizeBytes(image->vertices.size(), image->triangles.size());
     const double pixels = double(image->width) * double(image->height);
     std::printf("%s: %zu vertices, %zu triangles: %zu bytes (paper raw size %llu, ratio %.3f, "
-                "%.3f bits/pixel, %.2f bytes/vertex)\n",
+                "%.3f bits/pixel, %.2f bytes/vertex; position bits %d, colour bits %d)\n",
                 output.c_str(), image->vertices.size(), image->triangles.size(), bytes->size(),
                 static_cast<unsigned long long>(paper), double(bytes->size()) / double(paper),
                 pixels > 0 ? 8.0 * double(bytes->size()) / pixels : 0.0,
-                double(bytes->size()) / double(image->vertices.size()));
+                double(bytes->size()) / double(image->vertices.size()),
+                options.position_bits ? options.position_bits : DefaultPositionBits(*image, options.reference_mse),
+                options.color_bits ? options.color_bits : DefaultColorBits(*image, options.reference_mse));
   }
   return 0;
 }
