@@ -381,7 +381,13 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
       }
     }
   }
+  // The grouping tables are not needed by the solve: release them before it.
   std::vector<double>().swap(blocks);
+  std::vector<uint32_t>().swap(sample_order);
+  std::vector<uint32_t>().swap(sample_offsets);
+  fine_of_control = IndexSets();
+  local_fine = IndexSets();
+  support = IndexSets();
 
   // Regulariser: lambda * s * (graph Laplacian of the control edges) + 1e-9 s I.
   double diagonal_sum = 0;

@@ -237,11 +237,12 @@ StatusOr<VectorizeResult> Vectorize(const Raster& raster, const Raster* mask,
 
     phase("refine " + std::to_string(round));
     start = Clock::now();
-    const Raster reconstruction = ReconstructRaster(fit);
-    const std::vector<float> error = ErrorMap(reconstruction, raster, mask, options.error_blur_sigma);
+    std::vector<float> error =
+        ErrorMap(ReconstructRaster(fit), raster, mask, options.error_blur_sigma);
     double error_sum = 0;
     for (float e : error) error_sum += std::max(0.f, e);
     spacing.reference_error = error_sum / double(domain_pixels);
+    fit = ColorFit();  // only the error map is needed from here on: release its memory
     blocked = BlockedPixels(raster, mask, &mesh, curves, clearance);
     std::vector<Point2> added = SelectRefinementSamples(error, width, height, threshold, spacing,
                                                         mesh.vertices, blocked, want);
