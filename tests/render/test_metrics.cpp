@@ -82,7 +82,7 @@ TEST_CASE("PSNR, mean error and MSSIM match a direct computation (grey)", "[metr
   CHECK(m->pixels == 53u * 41u);
 }
 
-TEST_CASE("MSSIM is averaged over R, G, B; grey counts as R = G = B", "[metrics]") {
+TEST_CASE("MSSIM is averaged over R, G, B and grey counts as R = G = B", "[metrics]") {
   Raster clean, noisy;
   SyntheticPair(40, 33, 3, clean, noisy);
   auto m = CompareImages(noisy, clean);
