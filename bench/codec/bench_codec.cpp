@@ -288,9 +288,9 @@ void DrawPlot(const std::string& path, const std::string& title, std::vector<Ser
     }
   }
   cv::rectangle(img, {left, top}, {w - right, h - bottom}, ink);
-  cv::putText(img, title, {left, 30}, cv::FONT_HERSHEY_SIMPLEX, 0.7, ink, 2);
+  cv::putText(img, title, {left, 22}, cv::FONT_HERSHEY_SIMPLEX, 0.7, ink, 2);
   cv::putText(img, "bytes (log scale)", {w / 2 - 60, h - 25}, cv::FONT_HERSHEY_SIMPLEX, 0.5, ink);
-  cv::putText(img, "PSNR dB", {10, top - 10}, cv::FONT_HERSHEY_SIMPLEX, 0.5, ink);
+  cv::putText(img, "PSNR dB", {10, top - 6}, cv::FONT_HERSHEY_SIMPLEX, 0.5, ink);
   int legend_y = top + 25;
   for (const auto& s : series) {
     cv::Point prev(-1, -1);
