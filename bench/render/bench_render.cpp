@@ -156,7 +156,7 @@ int OracleCheck(const std::string& dir) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string image_path = "/work/shared/data/photos/lena_512.png", out_dir = "bench-out/render", oracle, sdvi_path;
+  std::string image_path = "/work/shared/data/photos/lena_512.png", out_dir = "out/bench/render", oracle, sdvi_path;
   int grid = 71, repeat = 3;
   double scale = 8;
   for (int i = 1; i + 1 < argc; i += 2) {
