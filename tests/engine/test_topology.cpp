@@ -14,7 +14,7 @@ StatusCode CodeOf(const Image& image) {
 }
 }  // namespace
 
-TEST_CASE("Boundary is crease; endpoints, junctions and tagged vertices are corners", "[topology]") {
+TEST_CASE("Boundary is crease, and endpoints, junctions and tagged vertices are corners", "[topology]") {
   Image image = test::GridImage(4, 4, 0, 1);
   auto g = [](int i, int j) { return test::GridIndex(4, i, j); };
   // A polyline from interior (1,2) to (3,2), and a junction at (2,2) with a branch to (2,1).
