@@ -30,7 +30,8 @@ constexpr size_t kHeaderSize = 40;
 constexpr size_t kCrcOffset = 36;
 constexpr uint8_t kFlagVertexIds = 1;     // the Draco mesh has the vertex id attribute
 constexpr uint8_t kFlagFeatureLayer = 2;  // the tag stream carries the feature layer
-constexpr uint8_t kKnownFlags = kFlagVertexIds | kFlagFeatureLayer;
+constexpr uint8_t kFlagGrey = 4;          // R = G = B everywhere: COLOR has 1 component
+constexpr uint8_t kKnownFlags = kFlagVertexIds | kFlagFeatureLayer | kFlagGrey;
 
 // Draco attribute unique ids, in the order the attributes are added.
 constexpr uint32_t kPositionUniqueId = 0;
@@ -100,6 +101,7 @@ StatusOr<Header> ParseHeader(std::span<const uint8_t> payload, const std::string
 // A Draco mesh as decoded: per point its values (and original id when present), faces
 // as point triples in Draco's order.
 struct DecodedMesh {
+  bool grey = false;  // COLOR had one component
   std::vector<Vertex> points;
   std::vector<uint32_t> ids;
   std::vector<std::array<uint32_t, 3>> faces;
@@ -133,18 +135,21 @@ StatusOr<DecodedMesh> DecodeDracoMesh(std::span<const uint8_t> bytes, const std:
       position->num_components() != 2)
     return Status(StatusCode::kCorrupt, what + " lacks the 2-component POSITION attribute (unique id 0)");
   if (!color || color->attribute_type() != draco::GeometryAttribute::COLOR ||
-      color->num_components() != 3)
-    return Status(StatusCode::kCorrupt, what + " lacks the 3-component COLOR attribute (unique id 1)");
+      (color->num_components() != 3 && color->num_components() != 1))
+    return Status(StatusCode::kCorrupt, what + " lacks the 3- or 1-component COLOR attribute (unique id 1)");
   if (id && (id->attribute_type() != draco::GeometryAttribute::GENERIC ||
              id->num_components() != 1 || id->data_type() != draco::DT_UINT32))
     return Status(StatusCode::kCorrupt, what + ": attribute unique id 2 is not a 1-component uint32 GENERIC");
   DecodedMesh out;
+  out.grey = color->num_components() == 1;
   const uint32_t n = mesh.num_points();
   out.points.resize(n);
   if (id) out.ids.resize(n);
   for (uint32_t p = 0; p < n; ++p) {
     float xy[2], rgb[3];
-    if (!ReadAttribute(position, p, xy) || !ReadAttribute(color, p, rgb) ||
+    const bool color_ok = ReadAttribute(color, p, rgb);  // 1 or 3 components
+    if (out.grey) rgb[1] = rgb[2] = rgb[0];
+    if (!ReadAttribute(position, p, xy) || !color_ok ||
         (id && !ReadAttribute(id, p, &out.ids[p])))
       return Status(StatusCode::kCorrupt, what + ": point " + std::to_string(p) +
                                               " has no attribute value");
@@ -164,7 +169,7 @@ StatusOr<DecodedMesh> DecodeDracoMesh(std::span<const uint8_t> bytes, const std:
 }
 
 // The Draco mesh of image's control mesh, with or without the vertex id attribute.
-std::unique_ptr<draco::Mesh> BuildDracoMesh(const Image& image, bool with_ids) {
+std::unique_ptr<draco::Mesh> BuildDracoMesh(const Image& image, bool with_ids, bool grey) {
   auto mesh = std::make_unique<draco::Mesh>();
   const uint32_t n = static_cast<uint32_t>(image.vertices.size());
   mesh->set_num_points(n);
@@ -172,8 +177,9 @@ std::unique_ptr<draco::Mesh> BuildDracoMesh(const Image& image, bool with_ids) {
   position.Init(draco::GeometryAttribute::POSITION, nullptr, 2, draco::DT_FLOAT32, false,
                 2 * sizeof(float), 0);
   draco::GeometryAttribute color;
-  color.Init(draco::GeometryAttribute::COLOR, nullptr, 3, draco::DT_FLOAT32, false,
-             3 * sizeof(float), 0);
+  const int color_components = grey ? 1 : 3;
+  color.Init(draco::GeometryAttribute::COLOR, nullptr, color_components, draco::DT_FLOAT32, false,
+             color_components * sizeof(float), 0);
   const int position_id = mesh->AddAttribute(position, true, n);
   const int color_id = mesh->AddAttribute(color, true, n);
   mesh->attribute(position_id)->set_unique_id(kPositionUniqueId);
@@ -448,6 +454,9 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
   const int color_bits =
       options.color_bits ? options.color_bits : DefaultColorBits(image, options.reference_mse);
   const ErrorBound bound = CompressionErrorBound(image, position_bits, color_bits);
+  const bool grey = std::all_of(image.vertices.begin(), image.vertices.end(), [](const Vertex& v) {
+    return std::memcmp(&v.r, &v.g, sizeof(float)) == 0 && std::memcmp(&v.r, &v.b, sizeof(float)) == 0;
+  });
 
   // Try, in order: edgebreaker without ids (decoded order = Draco's), edgebreaker with
   // ids, sequential with ids. Each candidate is decoded and checked before it is kept.
@@ -457,14 +466,14 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
   try {
     const std::string self = "compressed image (self-check)";
     if (options.speed < 10) {
-      auto mesh_ids = BuildDracoMesh(image, true);
+      auto mesh_ids = BuildDracoMesh(image, true, grey);
       SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes_ids,
                             EncodeDracoMesh(*mesh_ids, draco::MESH_EDGEBREAKER_ENCODING,
                                             position_bits, color_bits, options.speed));
       StatusOr<DecodedMesh> decoded_ids = DecodeDracoMesh(bytes_ids, self);
       if (decoded_ids.ok() && MapsBack(*decoded_ids, image, bound)) {
         if (!options.keep_vertex_order && decoded_ids->points.size() == n) {
-          auto mesh_plain = BuildDracoMesh(image, false);
+          auto mesh_plain = BuildDracoMesh(image, false, grey);
           StatusOr<std::vector<uint8_t>> bytes_plain = EncodeDracoMesh(
               *mesh_plain, draco::MESH_EDGEBREAKER_ENCODING, position_bits, color_bits, options.speed);
           if (bytes_plain.ok()) {
@@ -481,7 +490,7 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
       }
     }
     if (draco_bytes.empty()) {
-      auto mesh_ids = BuildDracoMesh(image, true);
+      auto mesh_ids = BuildDracoMesh(image, true, grey);
       SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes,
                             EncodeDracoMesh(*mesh_ids, draco::MESH_SEQUENTIAL_ENCODING,
                                             position_bits, color_bits, options.speed));
@@ -524,7 +533,8 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
   payload[4] = kVersionMajor;
   payload[5] = kVersionMinor;
   payload[6] = static_cast<uint8_t>((with_ids ? kFlagVertexIds : 0) |
-                                    (options.feature_layer ? kFlagFeatureLayer : 0));
+                                    (options.feature_layer ? kFlagFeatureLayer : 0) |
+                                    (grey ? kFlagGrey : 0));
   payload[7] = static_cast<uint8_t>(position_bits);
   payload[8] = static_cast<uint8_t>(color_bits);
   payload[9] = static_cast<uint8_t>(options.speed);
@@ -560,6 +570,10 @@ Status DecodeDracoPayload(std::span<const uint8_t> payload, const std::string& s
   try {
     SDVI_ASSIGN_OR_RETURN(DecodedMesh mesh,
                           DecodeDracoMesh(payload.subspan(kHeaderSize, h.draco_size), source_name));
+    if (mesh.grey != ((h.flags & kFlagGrey) != 0))
+      return Status(StatusCode::kCorrupt, what + ": the Draco COLOR attribute has " +
+                                              (mesh.grey ? "1 component" : "3 components") +
+                                              ", the header's grey flag says otherwise");
     if (has_ids != !mesh.ids.empty())
       return Status(StatusCode::kCorrupt, what + (has_ids ? ": header flags vertex ids, the Draco mesh has none"
                                                           : ": the Draco mesh has vertex ids the header does not flag"));
@@ -647,6 +661,7 @@ StatusOr<DracoPayloadInfo> InspectDracoPayload(std::span<const uint8_t> payload,
   info.speed = h.speed;
   info.has_vertex_ids = (h.flags & kFlagVertexIds) != 0;
   info.has_feature_layer = (h.flags & kFlagFeatureLayer) != 0;
+  info.grey = (h.flags & kFlagGrey) != 0;
   return info;
 }
 

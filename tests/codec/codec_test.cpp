@@ -345,3 +345,24 @@ TEST_CASE("a reference MSE coarsens the default quantization within its limits",
   options.reference_mse = -1;
   CHECK(sdvi::EncodeDracoPayload(image, options).status().code() == StatusCode::kInvalidArgument);
 }
+
+TEST_CASE("grey images code one colour component and decode R = G = B", "[codec]") {
+  Image image = sdvi::testing::SyntheticGridImage(256, 256, 24, 24, 41);
+  for (auto& v : image.vertices) v.g = v.b = v.r;
+  const Encoded grey = MustEncode(image);
+  auto info = sdvi::InspectDracoPayload(grey.payload, "g");
+  REQUIRE(info.ok());
+  CHECK(info->grey);
+  const Image decoded = MustDecode(grey.payload);
+  for (const auto& v : decoded.vertices) {
+    CHECK(v.g == v.r);
+    CHECK(v.b == v.r);
+  }
+  RequireRoundTrip(image, decoded, grey.new_index, sdvi::DefaultPositionBits(image),
+                   sdvi::DefaultColorBits(image));
+  Image almost = image;
+  almost.vertices[7].b += 0.5f;  // one vertex not grey: three components
+  const Encoded colour = MustEncode(almost);
+  CHECK_FALSE(sdvi::InspectDracoPayload(colour.payload, "c")->grey);
+  CHECK(grey.payload.size() < colour.payload.size());
+}

@@ -1,9 +1,9 @@
 // The compressed payload of a .sdvi file (spec/FORMAT.md, "Compressed payload (Draco)").
 //
 // The control mesh (vertices, triangles, crease edges, explicit corners) travels as one
-// byte string: a 40-byte header, a Draco mesh (POSITION = (x, y), COLOR = (R, G, B),
-// both quantized; optionally a GENERIC uint32 attribute holding original vertex ids) and
-// a tag stream (adaptive binary range coding: one bit per mesh edge, crease or not; one
+// byte string: a 40-byte header, a Draco mesh (POSITION = (x, y), COLOR = (R, G, B) or
+// one grey value when R = G = B at every vertex, both quantized; optionally a GENERIC
+// uint32 attribute holding original vertex ids) and a tag stream (adaptive binary range coding: one bit per mesh edge, crease or not; one
 // per vertex, explicit corner or not; then, by default, the feature layer as walks along
 // crease edges). The rest of the image (size, metadata; the feature layer when the
 // payload does not carry it) stays in the container.
@@ -105,6 +105,7 @@ struct DracoPayloadInfo {
   int position_bits = 0, color_bits = 0, speed = 0;
   bool has_vertex_ids = false;
   bool has_feature_layer = false;
+  bool grey = false;  // every vertex has R = G = B: one colour component coded
 };
 StatusOr<DracoPayloadInfo> InspectDracoPayload(std::span<const uint8_t> payload,
                                                const std::string& source_name);
