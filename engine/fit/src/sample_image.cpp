@@ -36,9 +36,9 @@ Raster MakeSampleImage(int width, int height) {
       // Smooth background: two crossing linear ramps and a gentle bump.
       const double bump = std::exp(-((u - 0.2) * (u - 0.2) + (v - 0.8) * (v - 0.8)) * 6);
       double rgb[3] = {40 + 150 * u + 30 * bump, 70 + 110 * v, 190 - 90 * u + 40 * bump};
-      // Soft edge: below a sine wave, blurred over ~3% of the size.
+      // Soft edge: below a sine wave, blurred over ~2.4% of the size.
       const double wave = h * (0.70 + 0.05 * std::sin(2 * pi * 1.5 * u));
-      const double soft = Smoothstep(-0.03 * s, 0.03 * s, py - wave);
+      const double soft = Smoothstep(-0.012 * s, 0.012 * s, py - wave);
       const double warm[3] = {225 - 40 * u, 175 - 30 * v, 95};
       Over(rgb, warm, soft);
       // Sharp disc with a radial shade, antialiased over one pixel.
