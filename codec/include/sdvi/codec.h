@@ -5,8 +5,9 @@
 // one grey value when R = G = B at every vertex, both quantized; optionally a GENERIC
 // uint32 attribute holding original vertex ids) and a tag stream (adaptive binary range
 // coding: one bit per mesh edge, crease or not; one per vertex, explicit corner or not;
-// then, by default, the feature layer as walks along crease edges). The rest of the image (size, metadata; the feature layer when the
-// payload does not carry it) stays in the container.
+// then, by default, the feature layer as walks along crease edges). The rest of the
+// image (size, metadata; the feature layer when the payload does not carry it) stays in
+// the container.
 //
 // What travels exactly and what does not:
 //  - topology (which vertex triples form triangles, with their orientation), crease
