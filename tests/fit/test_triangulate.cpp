@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <opencv2/imgproc.hpp>
+#include <random>
 #include <set>
 
 #include "sdvi/features.h"
@@ -76,6 +77,19 @@ std::map<Edge, int> CheckValidMesh(const Image& m) {
   }
   for (const auto& v : m.vertices) {
     REQUIRE((v.r == 0 && v.g == 0 && v.b == 0));
+  }
+  // Manifold vertices: each vertex is used, and has 0 (interior) or 2 boundary edges.
+  std::vector<int> boundary_degree(m.vertices.size(), 0), used(m.vertices.size(), 0);
+  for (const auto& t : m.triangles)
+    for (uint32_t v : t.v) used[v] = 1;
+  for (const auto& [e, n] : edges)
+    if (n == 1) {
+      boundary_degree[e.a]++;
+      boundary_degree[e.b]++;
+    }
+  for (size_t v = 0; v < m.vertices.size(); ++v) {
+    REQUIRE(used[v] == 1);
+    REQUIRE((boundary_degree[v] == 0 || boundary_degree[v] == 2));
   }
   return edges;
 }
@@ -323,4 +337,49 @@ TEST_CASE("bad curves and options are rejected", "[triangulate]") {
   auto plain = sdvi::BuildControlMesh(64, 32, {}, {}, {});
   REQUIRE(plain.ok());
   CheckValidMesh(*plain);
+}
+
+TEST_CASE("random drawn images always give valid meshes", "[triangulate]") {
+  std::mt19937 rng(2024);
+  for (int round = 0; round < 60; ++round) {
+    const int w = 8 + int(rng() % 150), h = 8 + int(rng() % 150);
+    const int channels = 1 + int(rng() % 4);
+    cv::Mat grey(h, w, CV_32FC1, cv::Scalar(double(rng() % 256)));
+    cv::Mat alpha(h, w, CV_32FC1, cv::Scalar(1.0));
+    for (int k = 0; k < 10; ++k) {
+      cv::Point p(int(rng() % (w + 1)), int(rng() % (h + 1))), q(int(rng() % (w + 1)), int(rng() % (h + 1)));
+      double colour = double(rng() % 256);
+      switch (rng() % 3) {
+        case 0: cv::circle(grey, p, int(rng() % 50), colour, -1); break;
+        case 1: cv::line(grey, p, q, colour, 1 + int(rng() % 3)); break;
+        default: cv::rectangle(grey, p, q, colour, -1); break;
+      }
+      if (k < 4) cv::circle(alpha, p, int(rng() % 40), (rng() % 2) ? 1.0 : 0.0, -1);
+    }
+    sdvi::Raster r(w, h, channels);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        for (int c = 0; c < channels; ++c) {
+          bool is_alpha = (channels == 2 && c == 1) || (channels == 4 && c == 3);
+          r.at(x, y, c) = is_alpha ? alpha.at<float>(y, x) : grey.at<float>(y, x) * (0.4f + 0.2f * c);
+        }
+    auto curves = sdvi::DetectFeatures(r, nullptr, {});
+    if (!curves.ok()) {
+      REQUIRE(curves.status().code() == sdvi::StatusCode::kEmptyInput);  // nothing opaque enough
+      continue;
+    }
+    std::vector<Point2> samples;
+    if (rng() % 2)
+      for (int y = 0; y <= h; y += 5)
+        for (int x = 0; x <= w; x += 5) samples.push_back({double(x), double(y)});  // exact lattice
+    for (int i = 0; i < 100; ++i) samples.push_back({double(rng() % (100 * w)) / 100, double(rng() % (100 * h)) / 100});
+    sdvi::ControlMeshOptions o;
+    o.pairs = rng() % 4 != 0;
+    o.max_edge = float(4 + rng() % 30);
+    auto mesh = sdvi::BuildControlMesh(w, h, *curves, samples, o);
+    CAPTURE(round, w, h, channels);
+    REQUIRE(mesh.ok());
+    CheckValidMesh(*mesh);
+    CheckNoCrossings(*mesh);
+  }
 }

@@ -451,10 +451,10 @@ double ChainLength(const std::vector<Point2>& p, bool closed) {
 // the Sobel difference (measured on synthetic steps: sqrt(sigma^2 + 0.45)).
 double BaseWidth(double sigma) { return std::sqrt(sigma * sigma + 0.45); }
 
-// Blur width sigma_b of the image at one edge pixel (see FeatureOptions).
-double PixelBlur(const GradientField& g, int x, int y, double sigma) {
+// Blur width sigma_b of the image at one edge pixel (see FeatureOptions); *contrast gets
+// the colour distance C across the edge.
+double PixelBlur(const GradientField& g, int x, int y, double sigma, double* contrast) {
   float m = g.mag.at<float>(y, x);
-  if (m <= 1e-3f) return 0;
   double nx = g.nx.at<float>(y, x), ny = g.ny.at<float>(y, x);
   double c2 = 0;
   for (const cv::Mat& s : g.smoothed) {
@@ -462,8 +462,9 @@ double PixelBlur(const GradientField& g, int x, int y, double sigma) {
     double b = Bilinear(s, x - kContrastReach * nx, y - kContrastReach * ny);
     c2 += (a - b) * (a - b);
   }
-  double contrast = std::sqrt(c2 / double(g.smoothed.size()));
-  double width = contrast / (std::sqrt(2 * kPi) * m);
+  *contrast = std::sqrt(c2 / double(g.smoothed.size()));
+  if (m <= 1e-3f) return 0;
+  double width = *contrast / (std::sqrt(2 * kPi) * m);
   double base = BaseWidth(sigma);
   return std::sqrt(std::max(0.0, width * width - base * base));
 }
@@ -627,23 +628,28 @@ StatusOr<std::vector<FeatureCurve>> DetectFeatures(const Raster& image, const Ra
     std::vector<Point2> samples;
     bool closed;
     double blur;
+    double contrast;
     double length;
   };
   std::vector<Kept> kept;
   for (const Chain& c : chains) {
     Kept k;
     k.closed = c.closed;
-    std::vector<double> blurs;
+    std::vector<double> blurs, contrasts;
     for (int p : c.pixels) {
       int x = p % w, y = p / w;
       double d = offset.at<float>(y, x);
       k.samples.push_back({x + 0.5 + d * g.nx.at<float>(y, x), y + 0.5 + d * g.ny.at<float>(y, x)});
-      blurs.push_back(PixelBlur(g, x, y, options.smoothing_sigma));
+      double contrast = 0;
+      blurs.push_back(PixelBlur(g, x, y, options.smoothing_sigma, &contrast));
+      contrasts.push_back(contrast);
     }
     k.length = ChainLength(k.samples, k.closed);
     if (k.length < options.min_chain_length || k.samples.size() < 3) continue;
     std::nth_element(blurs.begin(), blurs.begin() + blurs.size() / 2, blurs.end());
     k.blur = std::min(1.0, blurs[blurs.size() / 2] / options.blur_scale);
+    std::nth_element(contrasts.begin(), contrasts.begin() + contrasts.size() / 2, contrasts.end());
+    k.contrast = contrasts[contrasts.size() / 2];
     kept.push_back(std::move(k));
   }
   std::vector<double> sharpness(kept.size());
@@ -669,6 +675,7 @@ StatusOr<std::vector<FeatureCurve>> DetectFeatures(const Raster& image, const Ra
         FindChainCorners(kept[i].samples, kept[i].closed, options.corner_angle_deg, window);
     FeatureCurve curve = FitChain(kept[i].samples, kept[i].closed, corners, fit);
     curve.sharpness = float(std::clamp(sharpness[i], 0.0, 1.0));
+    curve.contrast = float(kept[i].contrast);
     curve.boundary = false;
     if (curve.points.size() >= 2) curves.push_back(std::move(curve));
   }

@@ -37,8 +37,43 @@ using Vb = CGAL::Triangulation_vertex_base_with_info_2<VertexInfo, K, CGAL::Dela
 using Fb = CGAL::Delaunay_mesh_face_base_2<K>;
 using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
 using CDT = CGAL::Constrained_Delaunay_triangulation_2<K, Tds, CGAL::Exact_predicates_tag>;
-using Criteria = CGAL::Delaunay_mesh_size_criteria_2<CDT>;
-using Mesher = CGAL::Delaunay_mesher_no_edge_refinement_2<CDT, Criteria>;
+
+// CGAL's angle + size criteria, except that a triangle with an edge shorter than
+// min_length is never bad: the mesher cannot split constrained edges, so near small input
+// angles (feature ends, kinks, pair strips) its circumcentre insertions would otherwise
+// cascade into ever smaller triangles.
+class MeshCriteria : public CGAL::Delaunay_mesh_size_criteria_2<CDT> {
+  using Size = CGAL::Delaunay_mesh_size_criteria_2<CDT>;
+
+ public:
+  explicit MeshCriteria(double aspect_bound = 0.125, double size_bound = 0, double min_length = 0)
+      : CGAL::Delaunay_mesh_criteria_2<CDT>(aspect_bound), Size(aspect_bound, size_bound), min_length_(min_length) {}
+
+  class Is_bad : public Size::Is_bad {
+   public:
+    Is_bad(double aspect_bound, double size_bound, double min_length, const K& traits)
+        : Size::Is_bad(aspect_bound, size_bound, traits), min_squared_(min_length * min_length) {}
+    using Size::Is_bad::operator();
+    CGAL::Mesh_2::Face_badness operator()(const CDT::Face_handle& fh, typename Size::Quality& q) const {
+      const K::Point_2 &a = fh->vertex(0)->point(), &b = fh->vertex(1)->point(), &c = fh->vertex(2)->point();
+      double shortest = std::min({CGAL::squared_distance(a, b), CGAL::squared_distance(b, c),
+                                  CGAL::squared_distance(c, a)});
+      if (shortest < min_squared_) {
+        q = typename Size::Quality(1, 0);
+        return CGAL::Mesh_2::NOT_BAD;
+      }
+      return Size::Is_bad::operator()(fh, q);
+    }
+
+   private:
+    double min_squared_;
+  };
+  Is_bad is_bad_object() const { return Is_bad(this->bound(), this->size_bound(), min_length_, this->traits); }
+
+ private:
+  double min_length_;
+};
+using Mesher = CGAL::Delaunay_mesher_no_edge_refinement_2<CDT, MeshCriteria>;
 
 uint64_t EdgeKey(uint32_t a, uint32_t b) {
   if (a > b) std::swap(a, b);
@@ -145,7 +180,8 @@ StatusOr<Image> BuildControlMesh(int width, int height, const std::vector<Featur
     Mesher mesher(cdt);
     const double angle = options.min_angle_deg * 3.14159265358979323846 / 180.0;
     const double bound = std::sin(angle) * std::sin(angle);  // 20 deg -> ~0.117 (CGAL: B <= 0.125)
-    mesher.set_criteria(Criteria(std::min(0.125, bound), placed.max_edge));
+    const double min_length = 0.5 * std::min(options.clearance, options.min_distance);
+    mesher.set_criteria(MeshCriteria(std::min(0.125, bound), placed.max_edge, min_length));
     mesher.init(placed.object_mode);  // false: marks the convex hull
     mesher.refine_mesh();
     if (placed.object_mode) {

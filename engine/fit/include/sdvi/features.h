@@ -25,6 +25,8 @@ struct FeatureCurve {
   float sharpness = 1.0f;         // 1 - blur, in [0, 1]
   bool boundary = false;          // a domain contour of an object image (outer or hole):
                                   // bounds the domain, is not paired
+  float contrast = 0;             // median colour step across the edge (0..255 units, RMS
+                                  // over channels); 0 for boundary curves
 };
 
 // Edge detection (paper step 1): the image (RGB or grey) is smoothed with a Gaussian of
