@@ -17,6 +17,7 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -241,17 +242,20 @@ int main(int argc, char** argv) {
       }
       if (k != 0 || !config.ablations) continue;
       AblationRow row{ShortName(path), r.psnr};
+      const double failed = std::nan("");
       auto linear = PiecewiseLinear(result->image, *raster, config.threads);
-      row.b = linear.ok() ? linear->psnr : 0;
+      row.b = linear.ok() ? linear->psnr : failed;
       sdvi::VectorizeOptions equal;
       equal.max_triangles = int(r.triangles);
       equal.mesh.pairs = false;
       auto no_pairs = Run(*raster, equal, config.threads);
-      row.c = no_pairs.ok() ? no_pairs->report.psnr : 0;
+      row.c = no_pairs.ok() ? no_pairs->report.psnr : failed;
+      if (!no_pairs.ok()) std::fprintf(stderr, "%s (c): %s\n", path.c_str(), no_pairs.status().ToString().c_str());
       equal.mesh.pairs = true;
       equal.mesh.use_sharpness = false;
       auto no_sharpness = Run(*raster, equal, config.threads);
-      row.d = no_sharpness.ok() ? no_sharpness->report.psnr : 0;
+      row.d = no_sharpness.ok() ? no_sharpness->report.psnr : failed;
+      if (!no_sharpness.ok()) std::fprintf(stderr, "%s (d): %s\n", path.c_str(), no_sharpness.status().ToString().c_str());
       ablation_rows.push_back(row);
     }
   }
@@ -259,16 +263,22 @@ int main(int argc, char** argv) {
     std::printf("\n## Ablations at equal triangle budget (ratio %.0f), PSNR dB\n\n", config.ratios[0]);
     std::printf("| image | (a) full | (b) piecewise linear | (c) no pairs | (d) no sharpness |\n"
                 "|---|---|---|---|---|\n");
+    // Means over the images where every variant ran (a failed run prints nan).
     double db = 0, dc = 0, dd = 0;
+    int n = 0;
     for (const AblationRow& row : ablation_rows) {
       std::printf("| %s | %.2f | %.2f | %.2f | %.2f |\n", row.name.c_str(), row.a, row.b, row.c, row.d);
+      if (std::isnan(row.b) || std::isnan(row.c) || std::isnan(row.d)) continue;
       db += row.a - row.b;
       dc += row.a - row.c;
       dd += row.a - row.d;
+      ++n;
     }
-    const double n = double(ablation_rows.size());
-    std::printf("\nmean gain of (a) over: (b) %+.2f dB, (c) %+.2f dB, (d) %+.2f dB (%zu images)\n\n",
-                db / n, dc / n, dd / n, ablation_rows.size());
+    if (n > 0) {
+      std::printf("\nmean gain of (a) over: (b) %+.2f dB, (c) %+.2f dB, (d) %+.2f dB (%d of %zu images; "
+                  "the others had a failed variant)\n\n",
+                  db / n, dc / n, dd / n, n, ablation_rows.size());
+    }
   }
 
   if (!config.timing.empty()) {
