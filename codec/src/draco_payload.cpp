@@ -246,8 +246,8 @@ double AttributeRange(const Image& image, bool colors, double* max_abs) {
 }
 
 // Quantization defaults (codec.h, DefaultPositionBits / DefaultColorBits).
-constexpr double kPositionStep = 1.0 / 64;    // px, without a reference MSE
-constexpr double kColorStep = 0.25;           // 8-bit levels, without a reference MSE
+constexpr double kPositionStep = 1.0 / 128;   // px, without a reference MSE
+constexpr double kColorStep = 0.125;          // 8-bit levels, without a reference MSE
 constexpr double kMinPositionStep = 1.0 / 512, kMaxPositionStep = 0.25;  // px, with one
 constexpr double kMinColorStep = 1.0 / 32, kMaxColorStep = 4.0;          // levels, with one
 constexpr double kErrorBudget = 0.01;         // added MSE / reference MSE (0.043 dB)

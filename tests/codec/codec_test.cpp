@@ -159,13 +159,13 @@ TEST_CASE("meshes edgebreaker cannot carry still round trip (isolated vertex, no
 TEST_CASE("default quantization is chosen from the image size", "[codec]") {
   Image small = sdvi::testing::SyntheticGridImage(64, 64, 5, 5);
   Image large = sdvi::testing::SyntheticGridImage(4096, 2048, 5, 5);
-  CHECK(sdvi::DefaultPositionBits(small) == 13);  // 64 * 64 steps need 2^13 - 1 >= 4096
-  CHECK(sdvi::DefaultPositionBits(large) == 19);
+  CHECK(sdvi::DefaultPositionBits(small) == 14);  // 64 * 128 steps need 2^14 - 1 >= 8192
+  CHECK(sdvi::DefaultPositionBits(large) == 20);
   CHECK(sdvi::DefaultColorBits(small) >= 8);
   const auto bound = sdvi::CompressionErrorBound(large, sdvi::DefaultPositionBits(large),
                                                  sdvi::DefaultColorBits(large));
-  CHECK(bound.position <= 1.0 / 128 + 0.004);  // half a step + float rounding at 4096
-  CHECK(bound.color <= 0.125 + 1e-3);
+  CHECK(bound.position <= 1.0 / 256 + 0.004);  // half a step + float rounding at 4096
+  CHECK(bound.color <= 0.0625 + 1e-3);
 }
 
 TEST_CASE("Draco payload is at most a quarter of the paper's raw size", "[codec]") {

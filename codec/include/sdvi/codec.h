@@ -47,18 +47,19 @@ struct CompressOptions {
 
 // Default position quantization: the smallest bit count (at least 8) whose step over
 // max(width, height, extent of the vertex positions) is at most s_p. Without a reference
-// MSE s_p = 1/64 px (16 bits for 512 x 512): colour-discontinuity pairs can be a fraction
-// of a pixel apart, so positions need fine steps (measured on vectorized data: at 1/16 px
-// tango_face-smile's render lost 0.038 dB against the raw file's render, at 1/32 0.008 dB;
-// matcap_clay_studio, fitted to 57 dB, lost 0.11 dB at 1/32 px and 1/2 level).
+// MSE s_p = 1/128 px (17 bits for 512 x 512), safe for fits up to ~57 dB: colour-
+// discontinuity pairs can be a fraction of a pixel apart, so positions need fine steps
+// (measured on vectorized data, PSNR drop of the render against the raw file's render:
+// tango_face-smile at 46 dB lost 0.038 dB at 1/16 px, 0.008 at 1/32; adwaita computer at
+// 56.8 dB lost 0.116 dB at 1/64 px and 1/4 level, 0.006 at 1/128 px and 1/8 level).
 // With a reference MSE M (CompressOptions::reference_mse > 0) the steps follow from a
 // distortion budget: quantization adds about 13 s_p^2 (measured worst case, sharp
 // graphics) + s_c^2 / 24 (colour step s_c) to the MSE; each gets half of 0.01 M (a PSNR
 // drop of ~0.043 dB): s_p = sqrt(0.01 M / 26) clamped to [1/512, 1/4] px.
 int DefaultPositionBits(const Image& image, double reference_mse = 0);
 // Default colour quantization: the smallest bit count (at least 8) whose step over the
-// colour range of the vertices is at most s_c: 1/4 of an 8-bit level without a reference
-// MSE (10 bits for 0..255; control colours overshoot 0..255), with one
+// colour range of the vertices is at most s_c: 1/8 of an 8-bit level without a reference
+// MSE (11 bits for 0..255; control colours overshoot 0..255), with one
 // s_c = sqrt(0.12 M) clamped to [1/32, 4] levels.
 int DefaultColorBits(const Image& image, double reference_mse = 0);
 
