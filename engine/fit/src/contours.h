@@ -12,7 +12,9 @@ namespace sdvi {
 // domain: CV_8U, non-zero = inside. Returns one closed boundary curve (boundary = true,
 // sharpness 1) per outer contour and hole whose area is at least
 // options.min_domain_area, fitted as B-splines through the pixel-boundary contour (the
-// pixel centres of the rim moved 0.5 px outwards), with corners where the contour kinks.
+// pixel centres of the rim moved 0.5 px outwards, smoothed [1 2 1]/4, tolerance
+// min(fit_tolerance, 1 px); where that fit would come within 0.3 px of itself, the raw
+// contour at 0.5 px), with corners where the contour kinks.
 // kEmptyInput when nothing of the domain is left.
 StatusOr<std::vector<FeatureCurve>> DomainBoundaryCurves(const cv::Mat& domain,
                                                          const FeatureOptions& options);
