@@ -34,7 +34,9 @@ struct FeatureCurve {
 // structure tensor summed over channels (sqrt(lambda1 / channels), 0..255 units per px;
 // grey = the plain gradient magnitude); non-maximum suppression across the edge with a
 // sub-pixel peak; hysteresis between low_ratio * high and high; thinning; linking into
-// chains at endpoints (1 neighbour) and junctions (>= 3 neighbours).
+// chains at endpoints (1 neighbour) and junctions (>= 3 neighbours); at each junction the
+// two chain ends that continue each other best (>= ~143 degrees apart) are joined, so a
+// curve touched or crossed by another stays one chain (the other ends at the junction).
 // Blur (per edge pixel): the edge profile is taken as a Gaussian-blurred step of contrast
 // C (colour distance between the smoothed image at +-5 px across the edge): its total
 // width is sigma_t = C / (sqrt(2 pi) |gradient|); the blur width of the image itself is
@@ -93,7 +95,13 @@ struct ControlMeshOptions {
 // Vertex order: polyline vertices (boundary first, then features in placement order),
 // then the kept interior samples, then Steiner points of the mesher. polylines holds the
 // boundary too (closed); every pair is (side +normal, side -normal) with the curve's
-// sharpness (0 when use_sharpness is false). Errors: kInvalidArgument for bad options,
+// sharpness (0 when use_sharpness is false). Mesher (CGAL, no edge refinement): angle bound
+// sin^2(min_angle_deg) capped at CGAL's 0.125, size bound max_edge, and triangles with an
+// edge shorter than min(clearance, min_distance) / 2 are left alone (no refinement
+// cascades at small input angles); triangles touching feature polylines may stay thinner
+// than the bound. Samples on an exact square lattice give right triangles whose
+// circumcentre lies on an edge, which this mesher cannot insert: jitter lattices.
+// Errors: kInvalidArgument for bad options,
 // sizes or curves (non-finite, too few points, corner out of range), kInvalidMesh when
 // no domain boundary survives, kInternal when the triangulation breaks an invariant.
 StatusOr<Image> BuildControlMesh(int width, int height, const std::vector<FeatureCurve>& curves,
