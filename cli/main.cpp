@@ -29,7 +29,8 @@ const Command kCommands[] = {
      "IN.sdvi -o OUT.glb|OUT.gltf [--levels r] [--draco] [--position-bits N] [--color-bits N] "
      "[--speed S] [--control-mesh] [--copyright TEXT] [--quiet]"},
     {"compress", sdvi::cli::RunCompress,
-     "IN.sdvi -o OUT.sdvi [--position-bits N] [--color-bits N] [--speed S]"},
+     "IN.sdvi -o OUT.sdvi [--position-bits N] [--color-bits N] [--speed S] "
+     "[--reference IMG | --reference-mse M] [--keep-vertex-order] [--quiet]"},
     {"decompress", sdvi::cli::RunDecompress, "IN.sdvi -o OUT.sdvi"},
     {"sample", sdvi::cli::RunSample, "-o OUT.png [--width W --height H]   (the built-in sample image)"},
 };
