@@ -50,8 +50,8 @@ struct VectorizeOptions {
   double min_spacing = 2.0;        // px
   double spacing_exponent = 0;     // SpacingRule::exponent (0: fixed spacing)
   double feature_clearance = 1.0;  // px: no interior sample this close to a crease edge
-  double initial_fraction = 0.15;  // share of the vertex budget placed as the initial grid
-  double growth = 1.0;             // a round adds at most growth x the current vertex count
+  double initial_fraction = 0.05;  // share of the vertex budget placed as the initial grid
+  double growth = 0.2;             // a round adds at most growth x the current vertex count
   // Features of at most this share of the vertex budget are kept (the longest first).
   double max_feature_fraction = 0.5;
   FeatureOptions features;
