@@ -17,7 +17,8 @@ struct Command {
 const Command kCommands[] = {
     {"vectorize", sdvi::cli::RunVectorize,
      "IN.png|jpg|tif|bmp -o OUT.sdvi [--target-psnr dB] [--max-triangles N] [--iterations K] "
-     "[--mask M] [--report R.json] [--debug-dir D] [--threads N] [--compress] [--quiet]"},
+     "[--compression-ratio R] [--mask M] [--report R.json] [--debug-dir D] [--threads N] [--compress] "
+     "[--quiet]"},
     {"render", sdvi::cli::RunRender,
      "IN.sdvi -o OUT.png|OUT.exr [--scale S | --width W --height H] [--region x,y,w,h] "
      "[--levels r] [--bits 8|16] [--half] [--reference IMG]"},
