@@ -18,8 +18,13 @@ std::string ErrnoText() { return std::strerror(errno); }
 std::string TempSibling(const std::string& path) {
   static int counter = 0;
   std::filesystem::path p(path);
-  std::string name = "." + p.stem().string() + ".sdvi-tmp-" + std::to_string(::getpid()) + "-" +
-                     std::to_string(counter++) + p.extension().string();
+  std::string name(".");
+  name.append(p.stem().string())
+      .append(".sdvi-tmp-")
+      .append(std::to_string(::getpid()))
+      .append("-")
+      .append(std::to_string(counter++))
+      .append(p.extension().string());
   return (p.parent_path() / name).string();
 }
 
