@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -16,7 +17,7 @@ std::string ErrnoText() { return std::strerror(errno); }
 
 // A unique sibling of path with the same extension: "dir/.name.sdvi-tmp-PID-N.ext".
 std::string TempSibling(const std::string& path) {
-  static int counter = 0;
+  static std::atomic<int> counter{0};
   std::filesystem::path p(path);
   std::string name(".");
   name.append(p.stem().string())
