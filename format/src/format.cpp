@@ -105,11 +105,20 @@ Status CheckExtent(const RawView& raw, size_t root, const std::string& source) {
   auto check_vector = [&](std::optional<size_t> field, size_t element_bytes,
                           const char* name) -> Status {
     if (!field) return Status::Ok();
+    // A list that starts past the end of the file: lists are laid out after the root
+    // table, so a file cut short before a list loses its start. (A flipped offset byte
+    // can look the same; the message says both.)
+    if (auto offset = raw.U32(*field); offset && *field + uint64_t{*offset} + 4 > raw.size()) {
+      return Status(StatusCode::kTruncated,
+                    source + ": the " + name + " starts at byte " +
+                        std::to_string(*field + uint64_t{*offset}) + " but the file has " +
+                        std::to_string(raw.size()) + " bytes (the file is truncated, or damaged)");
+    }
     auto target = raw.Deref(*field);
     // Unreadable or misaligned offsets are damage, not truncation: the verifier reports them.
     if (!target || *target % 4 != 0) return Status::Ok();
     auto length = raw.U32(*target);
-    if (!length) return Status::Ok();  // starts outside the file: corrupt, not truncated
+    if (!length) return Status::Ok();
     const uint64_t end = *target + 4 + uint64_t{*length} * element_bytes;
     if (end > raw.size())
       return Status(StatusCode::kTruncated,
@@ -120,6 +129,17 @@ Status CheckExtent(const RawView& raw, size_t root, const std::string& source) {
   };
   for (const VectorField& v : kVectors)
     SDVI_RETURN_IF_ERROR(check_vector(raw.FieldPos(root, v.id), v.element_bytes, v.name));
+  for (auto [id, name] : {std::pair{int{kFeatures}, "feature layer"},
+                          std::pair{int{kPayload}, "compressed payload table"}}) {
+    auto field = raw.FieldPos(root, id);
+    if (!field) continue;
+    if (auto offset = raw.U32(*field); offset && *field + uint64_t{*offset} + 4 > raw.size()) {
+      return Status(StatusCode::kTruncated,
+                    source + ": the " + name + " starts at byte " +
+                        std::to_string(*field + uint64_t{*offset}) + " but the file has " +
+                        std::to_string(raw.size()) + " bytes (the file is truncated, or damaged)");
+    }
+  }
   if (auto payload_field = raw.FieldPos(root, kPayload)) {
     if (auto payload = raw.Deref(*payload_field); payload && *payload + 4 <= raw.size()) {
       SDVI_RETURN_IF_ERROR(check_vector(raw.FieldPos(*payload, 6), 1, "compressed payload"));

@@ -178,6 +178,13 @@ TEST_CASE("truncated files give kTruncated, an empty file kEmptyInput") {
     CHECK(r.status().code() == StatusCode::kTruncated);
     CHECK(r.status().message().find("cut.sdvi") == 0);
   }
+  // A real-sized file cut anywhere past its header is kTruncated, wherever the cut falls.
+  const std::vector<uint8_t> big = Encode(FeatureMesh());
+  for (size_t cut = 100; cut < big.size(); cut += 97) {
+    std::vector<uint8_t> part(big.begin(), big.begin() + cut);
+    INFO("cut at " << cut << " of " << big.size());
+    CHECK(DecodeSdvi(part, "cut.sdvi").status().code() == StatusCode::kTruncated);
+  }
   for (size_t cut = 1; cut < bytes.size(); ++cut) {  // no prefix is ever accepted
     std::vector<uint8_t> part(bytes.begin(), bytes.begin() + cut);
     REQUIRE_FALSE(DecodeSdvi(part, "cut.sdvi").ok());
