@@ -62,6 +62,8 @@ bool ApplyOverrides(const Config& c, sdvi::VectorizeOptions& o) {
     else if (name == "spacing_exponent") o.spacing_exponent = v;
     else if (name == "feature_clearance") o.feature_clearance = v;
     else if (name == "max_feature_fraction") o.max_feature_fraction = v;
+    else if (name == "flip_passes") o.flip_passes = int(v);
+    else if (name == "flip_min_angle") o.flip_min_angle = v;
     else if (name == "detect_edges") o.features.detect_edges = v != 0;
     else if (name == "rho") o.mesh.rho = float(v);
     else if (name == "max_edge") o.mesh.max_edge = float(v);

@@ -102,6 +102,9 @@ Status CheckOptions(const VectorizeOptions& o) {
       !(o.max_feature_fraction >= 0 && o.max_feature_fraction <= 1)) {
     return bad("refinement constants out of range");
   }
+  if (o.flip_passes < 0 || !(o.flip_min_angle >= 0 && o.flip_min_angle < 60)) {
+    return bad("flip passes must be >= 0 and the flip angle in [0, 60) degrees");
+  }
   if (o.threads < 1) return bad("threads must be >= 1");
   return Status::Ok();
 }
@@ -202,6 +205,7 @@ StatusOr<VectorizeResult> Vectorize(const Raster& raster, const Raster* mask,
       mesh_options.max_edge *= 2;
     }
   }
+  FlipEdgesToData(mesh, raster, mask, options.flip_passes, options.flip_min_angle);
   seconds.triangulate += SecondsSince(start);
 
   ColorFitOptions fit_options = options.fit;
@@ -281,6 +285,7 @@ StatusOr<VectorizeResult> Vectorize(const Raster& raster, const Raster* mask,
       const double keep = grown > 0 ? 0.95 * double(added.size()) * std::max(0.0, allowed) / grown : 0;
       added.resize(std::min(added.size() - 1, size_t(keep)));
     }
+    if (accepted) FlipEdgesToData(candidate, raster, mask, options.flip_passes, options.flip_min_angle);
     seconds.triangulate += SecondsSince(start);
     if (!accepted) break;
 

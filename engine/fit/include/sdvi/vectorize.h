@@ -15,6 +15,11 @@
 // PSNR reaches target_psnr, when the budget is spent (less than 3% of it left), after
 // `iterations` rounds, or when no candidate is left.
 //
+// Data-dependent triangulation. After every triangulation (the initial mesh and each
+// refinement round) FlipEdgesToData re-decides the diagonals of the non-crease edges by the
+// image data (flip_passes sweeps, flips never create an angle under flip_min_angle); the
+// vertices, triangle count and creases stay, so the budget rules below are unchanged.
+//
 // Budget. max_triangles (when > 0) is a hard cap: a round that would exceed it is redone
 // with fewer (the worst-error) samples; an initial mesh over it is rebuilt with fewer grid
 // samples, then fewer (the shorter) features, then a looser CDT size bound, and when even
@@ -54,6 +59,13 @@ struct VectorizeOptions {
   double growth = 0.2;             // a round adds at most growth x the current vertex count
   // Features of at most this share of the vertex budget are kept (the longest first).
   double max_feature_fraction = 0.5;
+  // Error-driven relocation after the refinement rounds (header comment): rounds at most,
+  // the step towards the error-weighted centroid, the exponent on the error weight.
+  int flip_passes = 16;            // FlipEdgesToData after every triangulation (0: none)
+  double flip_min_angle = 1.0;     // deg, smallest angle a flip may create
+  int relocation_rounds = 0;
+  double relocation_step = 0.5;
+  double relocation_power = 1.0;
   FeatureOptions features;
   ControlMeshOptions mesh;
   ColorFitOptions fit;             // its `threads` is replaced by `threads` below
@@ -130,6 +142,15 @@ std::vector<Point2> GridSamples(int width, int height, double spacing,
 // averaged by a Gaussian of sigma px (sigma <= 0: none); -1 outside the fitting domain.
 std::vector<float> ErrorMap(const Raster& reconstruction, const Raster& target, const Raster* mask,
                             double sigma);
+
+// Data-dependent edge flips (DESIGN.md 6.4 after the CDT): in up to `passes` sweeps over the
+// non-crease interior edges (sorted; a triangle flips at most once a sweep), an edge whose
+// quadrilateral is strictly convex is flipped when the piecewise-linear interpolation of the
+// image (Gaussian sigma 1 px) sampled at the four vertices has a squared error over the
+// quadrilateral's pixels below 0.98 x that of the current diagonal, and neither new triangle
+// has an angle under min_angle_deg. Orientation is kept. Returns the number of flips.
+int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int passes,
+                    double min_angle_deg);
 
 // The minimum distance of a new sample, as a function of the error e at its pixel:
 // clamp(base * (reference_error / e)^exponent, min, max). exponent 0: a fixed spacing;

@@ -1,0 +1,99 @@
+// Tests of the data-dependent edge flips (vectorize.h, FlipEdgesToData).
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <map>
+#include <vector>
+
+#include "sdvi/features.h"
+#include "sdvi/vectorize.h"
+
+namespace {
+
+// A valley along the anti-diagonal x + y = size: 0 on it, rising quadratically to 255 at the
+// corners (0, 0) and (size, size); RGB.
+sdvi::Raster AntiDiagonalValley(int size) {
+  sdvi::Raster raster(size, size, 3);
+  for (int y = 0; y < size; ++y) {
+    for (int x = 0; x < size; ++x) {
+      const float d = ((x + 0.5f) + (y + 0.5f) - float(size)) / float(size);
+      const float v = 255.f * d * d;
+      for (int c = 0; c < 3; ++c) raster.at(x, y, c) = v;
+    }
+  }
+  return raster;
+}
+
+// A square with the diagonal (0,0)-(s,s), across the image's valley.
+sdvi::Image Square(int size) {
+  sdvi::Image mesh;
+  mesh.width = mesh.height = uint32_t(size);
+  const float s = float(size);
+  mesh.vertices = {{0, 0, 0, 0, 0}, {s, 0, 0, 0, 0}, {s, s, 0, 0, 0}, {0, s, 0, 0, 0}};
+  mesh.triangles = {{{0, 1, 2}}, {{0, 2, 3}}};
+  return mesh;
+}
+
+double SignedArea(const sdvi::Image& m, const sdvi::Triangle& t) {
+  const sdvi::Vertex &a = m.vertices[t.v[0]], &b = m.vertices[t.v[1]], &c = m.vertices[t.v[2]];
+  return (double(b.x) - a.x) * (double(c.y) - a.y) - (double(b.y) - a.y) * (double(c.x) - a.x);
+}
+
+}  // namespace
+
+TEST_CASE("vectorize edge flips align the diagonal with an image valley", "[vectorize][flip]") {
+  const sdvi::Raster raster = AntiDiagonalValley(16);
+  sdvi::Image mesh = Square(16);
+  CHECK(sdvi::FlipEdgesToData(mesh, raster, nullptr, 4, 5.0) == 1);
+  REQUIRE(mesh.triangles.size() == 2);
+  for (const sdvi::Triangle& t : mesh.triangles) {
+    // The new diagonal is (1, 3); the orientation (counter-clockwise here) is kept.
+    CHECK(std::count(t.v.begin(), t.v.end(), 1u) == 1);
+    CHECK(std::count(t.v.begin(), t.v.end(), 3u) == 1);
+    CHECK(SignedArea(mesh, t) > 0);
+  }
+  // Converged: nothing more to flip.
+  CHECK(sdvi::FlipEdgesToData(mesh, raster, nullptr, 4, 5.0) == 0);
+}
+
+TEST_CASE("vectorize edge flips keep crease edges and zero passes change nothing", "[vectorize][flip]") {
+  const sdvi::Raster raster = AntiDiagonalValley(16);
+  sdvi::Image mesh = Square(16);
+  const sdvi::Image before = mesh;
+  CHECK(sdvi::FlipEdgesToData(mesh, raster, nullptr, 0, 5.0) == 0);
+  CHECK(mesh == before);
+  mesh.crease_edges = {sdvi::Edge::Of(0, 2)};
+  CHECK(sdvi::FlipEdgesToData(mesh, raster, nullptr, 4, 5.0) == 0);
+  CHECK(mesh.triangles == before.triangles);
+}
+
+TEST_CASE("vectorize edge flips of a control mesh keep a valid oriented manifold", "[vectorize][flip]") {
+  const sdvi::Raster raster = sdvi::MakeSampleImage(128, 96);
+  std::vector<sdvi::Point2> samples;
+  for (int y = 4; y < 96; y += 7) {
+    for (int x = 4 + (y % 2); x < 128; x += 7) samples.push_back({x + 0.5, y + 0.5});
+  }
+  auto built = sdvi::BuildControlMesh(128, 96, {}, samples, sdvi::ControlMeshOptions());
+  REQUIRE(built.ok());
+  sdvi::Image mesh = *built;
+  const size_t triangles = mesh.triangles.size();
+  const double sign = SignedArea(mesh, mesh.triangles[0]);
+  const int flips = sdvi::FlipEdgesToData(mesh, raster, nullptr, 8, 2.0);
+  CHECK(flips > 0);
+  CHECK(mesh.triangles.size() == triangles);
+  double area = 0;
+  std::map<sdvi::Edge, int> uses;
+  for (const sdvi::Triangle& t : mesh.triangles) {
+    const double a = SignedArea(mesh, t);
+    CHECK(a * sign > 0);  // consistent orientation, no fold, no degenerate triangle
+    area += std::abs(a) / 2;
+    for (int k = 0; k < 3; ++k) ++uses[sdvi::Edge::Of(t.v[k], t.v[(k + 1) % 3])];
+  }
+  CHECK(area == Approx(128.0 * 96.0).epsilon(1e-6));  // still tiles the rectangle
+  for (const auto& [edge, count] : uses) CHECK(count <= 2);
+  for (const sdvi::Edge& e : mesh.crease_edges) CHECK(uses.count(e) == 1);
+  // Deterministic.
+  sdvi::Image again = *built;
+  sdvi::FlipEdgesToData(again, raster, nullptr, 8, 2.0);
+  CHECK(again.triangles == mesh.triangles);
+}
