@@ -58,9 +58,9 @@ struct VectorizeOptions {
   double compression_ratio = 64;   // pixels per vertex when max_triangles is 0
   int iterations = 8;              // refinement rounds at most (0 = initial fit only)
   // Refinement constants (header comment).
-  double error_threshold = 2.0;    // RMS over R, G, B, 8-bit units
+  double error_threshold = 1.5;    // RMS over R, G, B, 8-bit units
   double error_blur_sigma = 1.0;   // px
-  double spacing_factor = 0.25;
+  double spacing_factor = 0.35;
   double min_spacing = 2.0;        // px
   double spacing_exponent = 0;     // SpacingRule::exponent (0: fixed spacing)
   double feature_clearance = 1.0;  // px: no interior sample this close to a crease edge
