@@ -43,15 +43,6 @@ namespace sdvi {
 
 class Progress;
 
-// The control mesh options of the vectorizer: the CDT's minimum angle is 12 degrees, not
-// 20 (fewer Steiner points leave more of the budget to the error-driven samples; the flips
-// re-decide the diagonals anyway), measured on the photos and graphics of bench_table1.
-inline ControlMeshOptions VectorizeMeshOptions() {
-  ControlMeshOptions options;
-  options.min_angle_deg = 12;
-  return options;
-}
-
 struct VectorizeOptions {
   double target_psnr = 0;          // dB; 0 = no PSNR target
   int max_triangles = 0;           // hard triangle cap; 0 = from compression_ratio
@@ -68,15 +59,12 @@ struct VectorizeOptions {
   double growth = 0.2;             // a round adds at most growth x the current vertex count
   // Features of at most this share of the vertex budget are kept (the longest first).
   double max_feature_fraction = 0.5;
-  // Error-driven relocation after the refinement rounds (header comment): rounds at most,
-  // the step towards the error-weighted centroid, the exponent on the error weight.
-  int flip_passes = 16;            // FlipEdgesToData after every triangulation (0: none)
+  // Data-dependent edge flips after every triangulation (FlipEdgesToData; beyond the
+  // paper, which keeps the CDT as it is).
+  int flip_passes = 16;            // sweeps at most (0: none)
   double flip_min_angle = 1.0;     // deg, smallest angle a flip may create
-  int relocation_rounds = 0;
-  double relocation_step = 0.5;
-  double relocation_power = 1.0;
   FeatureOptions features;
-  ControlMeshOptions mesh = VectorizeMeshOptions();
+  ControlMeshOptions mesh;        // CDT at the paper's minimum angle of 20 degrees
   ColorFitOptions fit;             // its `threads` is replaced by `threads` below
   int threads = 1;                 // worker threads (colour fit assembly, final render)
   Progress* progress = nullptr;    // optional terminal progress (not owned)
