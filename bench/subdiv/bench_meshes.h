@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "grid_triangles.h"
 #include "sdvi/image.h"
 
 namespace sdvi::bench {
@@ -33,17 +34,7 @@ inline Image FeatureGridImage(int target_vertices) {
                                       static_cast<float>(255 * Hash01(5 * h + 1)),
                                       static_cast<float>(255 * Hash01(5 * h + 2))});
     }
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const uint32_t a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
-      if ((i + j) % 2 == 0) {
-        image.triangles.push_back({{a, b, c}});
-        image.triangles.push_back({{a, c, d}});
-      } else {
-        image.triangles.push_back({{a, b, d}});
-        image.triangles.push_back({{b, c, d}});
-      }
-    }
+  testing::AppendGridTriangles(n, n, id, &image.triangles);
   // Feature polylines: every 6th row from column 2 to n-2 (open, corners at both ends and
   // a tagged corner in the middle), every 9th column crossing them (junctions), and a
   // closed square loop in every 12 x 12 block.

@@ -6,6 +6,7 @@
 #include <random>
 #include <span>
 
+#include "grid_triangles.h"
 #include "sdvi/format.h"
 
 namespace sdvi::testing {
@@ -33,18 +34,9 @@ Image SyntheticGridImage(uint32_t width, uint32_t height, uint32_t cols, uint32_
       image.vertices.push_back(v);
     }
   }
-  for (uint32_t j = 0; j + 1 < rows; ++j) {
-    for (uint32_t i = 0; i + 1 < cols; ++i) {
-      const uint32_t a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
-      if ((i + j) % 2 == 0) {
-        image.triangles.push_back({{a, b, c}});
-        image.triangles.push_back({{a, c, d}});
-      } else {
-        image.triangles.push_back({{a, b, d}});
-        image.triangles.push_back({{b, c, d}});
-      }
-    }
-  }
+  testing::AppendGridTriangles(int(cols) - 1, int(rows) - 1,
+                               [&](int i, int j) { return id(uint32_t(i), uint32_t(j)); },
+                               &image.triangles);
   for (uint32_t i = 0; i + 1 < cols; ++i) {
     image.crease_edges.push_back(Edge::Of(id(i, 0), id(i + 1, 0)));
     image.crease_edges.push_back(Edge::Of(id(i, rows - 1), id(i + 1, rows - 1)));

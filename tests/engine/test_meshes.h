@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "grid_triangles.h"
 #include "sdvi/image.h"
 #include "sdvi/tagged_mesh.h"
 
@@ -42,18 +43,8 @@ inline Image GridImage(int nx, int ny, double jitter, uint32_t seed) {
       const bool inner = i > 0 && i < nx;
       image.vertices.push_back(MakeVertex(10.0 * i + (inner ? jitter * Noise(seed + 7, id) : 0), 10.0 * j, seed, id));
     }
-  for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) {
-      const uint32_t a = GridIndex(nx, i, j), b = GridIndex(nx, i + 1, j), c = GridIndex(nx, i + 1, j + 1),
-                     d = GridIndex(nx, i, j + 1);
-      if ((i + j) % 2 == 0) {
-        image.triangles.push_back({{a, b, c}});
-        image.triangles.push_back({{a, c, d}});
-      } else {
-        image.triangles.push_back({{a, b, d}});
-        image.triangles.push_back({{b, c, d}});
-      }
-    }
+  testing::AppendGridTriangles(nx, ny, [nx](int i, int j) { return GridIndex(nx, i, j); },
+                               &image.triangles);
   return image;
 }
 

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "grid_triangles.h"
 #include "sdvi/color_fit.h"
 #include "sdvi/render.h"
 
@@ -28,18 +29,7 @@ sdvi::Image GridImage(int width, int height, int n, bool crease) {
       image.vertices.push_back(v);
     }
   }
-  for (int j = 0; j < n; ++j) {
-    for (int i = 0; i < n; ++i) {
-      const uint32_t a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
-      if ((i + j) % 2 == 0) {
-        image.triangles.push_back({{a, b, c}});
-        image.triangles.push_back({{a, c, d}});
-      } else {
-        image.triangles.push_back({{a, b, d}});
-        image.triangles.push_back({{b, c, d}});
-      }
-    }
-  }
+  sdvi::testing::AppendGridTriangles(n, n, id, &image.triangles);
   image.corners = {id(0, 0), id(n, 0), id(0, n), id(n, n)};
   if (crease) {
     const int mid = n / 2;
