@@ -87,6 +87,8 @@ struct CreateOptions {
   size_t max_curves = 100000;
   size_t max_segments = 1000000;   // Bezier segments over all curves
   size_t max_color_stops = 100000; // stops over all curves and sides
+  double max_length = 1e7;         // arc length over all curves (bounded by the control
+                                   // polygons' length), px
 };
 
 // Builds the image of drawing: a control mesh whose feature layer holds one pair per
