@@ -131,7 +131,29 @@ TEST_CASE("create: an open curve across the drawing separates its two colours", 
     worst = std::max({worst, ColorDistance(r, 34, y, kBlue), ColorDistance(r, 5, y, kBlue)});
   }
   INFO("worst channel difference " << worst);
-  CHECK(worst < 5.0);  // 3% of the 170-unit step
+  CHECK(worst < 2.0);  // ~1% of the 170-unit step
+}
+
+TEST_CASE("create: a closed curve partly outside the drawing is clipped at the frame", "[create]") {
+  // Half a circle is visible at the left edge; its colour stops wrap around offset 1 = 0.
+  sdvi::ColoredCurve c = Circle(0, 40, 24, kRed, kBlue, 1.0f);
+  c.right = {{0.2, kBlue}, {0.8, {30, 200, 40}}};  // lower blue, upper green (clockwise)
+  sdvi::CurveDrawing d{80, 80, {c}};
+  auto image = sdvi::CreateFromCurves(d, {});
+  REQUIRE(image.ok());
+  CHECK(image->pairs.size() == 1);
+  sdvi::Raster r = RenderAt(*image, 1);
+  CHECK(ColorDistance(r, 60, 40, kRed) < 1.0);   // outside
+  CHECK(ColorDistance(r, 60, 5, kRed) < 1.0);
+  // Inside, 3 px from the curve at 70 degrees below and above the right end: offsets
+  // 0.19 (blue at the curve) and 0.81 (green); diffusion pulls them a little to the mix.
+  const CurveColor green{30, 200, 40};
+  CHECK(ColorDistance(r, 7, 59, kBlue) < 20.0);
+  CHECK(ColorDistance(r, 7, 59, green) > 120.0);
+  CHECK(ColorDistance(r, 7, 20, green) < 20.0);
+  CHECK(ColorDistance(r, 7, 20, kBlue) > 120.0);
+  // The right end (offset 0, between 0.75 and 1.25 cyclically) is the mix of the two.
+  CHECK(ColorDistance(r, 20, 40, {30, 120, 120}) < 8.0);
 }
 
 TEST_CASE("create: the transition across a curve widens as sharpness falls", "[create]") {

@@ -131,12 +131,16 @@ Status ValidateDrawing(const CurveDrawing& d, const CreateOptions& o) {
 
 // ---- Sampling: the path as points about kSampleSpacing apart along its arc length ----
 
+// A whole path, or after clipping a run of it inside the drawing.
 struct SampledPath {
   std::vector<Point2> points;        // closed: the start is not repeated
-  std::vector<double> arc;           // arc length from the start at each point
-  double length = 0;                 // total arc length (closed: including the way back)
+  std::vector<double> arc;           // arc length from the path's start at each point
+                                     // (increasing; a run of a closed path may pass length)
+  double length = 0;                 // total arc length of the whole path (closed:
+                                     // including the way back)
   std::vector<uint32_t> corners;     // sample indices of kinked segment joins
-  bool closed = false;
+  bool closed = false;               // this run is the whole closed path
+  bool periodic = false;             // the whole path is closed (colours wrap around)
 };
 
 // Direction leaving a segment's start, or arriving at its end (the first non-zero of the
@@ -169,7 +173,7 @@ SampledPath SamplePath(const ColoredCurve& curve, double corner_angle_deg) {
                     b});
   }
   SampledPath out;
-  out.closed = curve.closed;
+  out.closed = out.periodic = curve.closed;
   out.points.push_back(curve.start);
   out.arc.push_back(0);
   Point2 p0 = curve.start;
@@ -219,6 +223,79 @@ SampledPath SamplePath(const ColoredCurve& curve, double corner_angle_deg) {
     if (Kinked(prev_tangent, first_tangent, corner_angle_deg)) out.corners.insert(out.corners.begin(), 0u);
   }
   return out;
+}
+
+// The runs of path inside the rectangle [margin, width - margin] x [margin, height - margin],
+// each starting and ending at its crossing of that rectangle's edge (the whole path when it
+// is inside). Runs with fewer than 2 points are dropped.
+std::vector<SampledPath> ClipToFrame(const SampledPath& path, double width, double height, double margin) {
+  auto inside = [&](Point2 p) {
+    return p.x >= margin && p.y >= margin && p.x <= width - margin && p.y <= height - margin;
+  };
+  const size_t n = path.points.size();
+  size_t first_out = n;
+  for (size_t i = 0; i < n && first_out == n; ++i)
+    if (!inside(path.points[i])) first_out = i;
+  if (first_out == n) return {path};
+  std::vector<bool> corner(n, false);
+  for (uint32_t c : path.corners) corner[c] = true;
+  // Walk the samples once (a closed path from its first outside sample, around to it
+  // again), unwrapping the arc length.
+  std::vector<size_t> order;
+  std::vector<double> arc;
+  const size_t start = path.closed ? first_out : 0, count = path.closed ? n + 1 : n;
+  for (size_t k = 0; k < count; ++k) {
+    size_t i = (start + k) % n;
+    order.push_back(i);
+    arc.push_back(path.arc[i] + (path.closed && start + k >= n ? path.length : 0));
+  }
+  // The point where segment a -> b (a inside, b outside or the reverse) meets the edge.
+  auto crossing = [&](size_t ka, size_t kb) {
+    Point2 a = path.points[order[ka]], b = path.points[order[kb]];
+    double lo = 0, hi = 1;  // a + t (b - a): inside at lo
+    for (int it = 0; it < 40; ++it) {
+      double mid = (lo + hi) / 2;
+      (inside({a.x + mid * (b.x - a.x), a.y + mid * (b.y - a.y)}) ? lo : hi) = mid;
+    }
+    return std::pair<Point2, double>{{a.x + lo * (b.x - a.x), a.y + lo * (b.y - a.y)},
+                                     arc[ka] + lo * (arc[kb] - arc[ka])};
+  };
+  std::vector<SampledPath> runs;
+  SampledPath run;
+  auto finish = [&]() {
+    if (run.points.size() >= 2) runs.push_back(std::move(run));
+    run = SampledPath{};
+  };
+  for (size_t k = 0; k < order.size(); ++k) {
+    const Point2 p = path.points[order[k]];
+    if (!inside(p)) {
+      if (!run.points.empty()) {
+        auto [q, s] = crossing(k - 1, k);
+        if (Dist(q, run.points.back()) > 1e-6) {
+          run.points.push_back(q);
+          run.arc.push_back(s);
+        }
+        finish();
+      }
+      continue;
+    }
+    if (run.points.empty()) {
+      run.length = path.length;
+      run.periodic = path.periodic;
+      if (k > 0) {
+        auto [q, s] = crossing(k, k - 1);
+        if (Dist(q, p) > 1e-6) {
+          run.points.push_back(q);
+          run.arc.push_back(s);
+        }
+      }
+    }
+    if (corner[order[k]] && !run.points.empty()) run.corners.push_back(uint32_t(run.points.size()));
+    run.points.push_back(p);
+    run.arc.push_back(arc[k]);
+  }
+  finish();
+  return runs;
 }
 
 // ---- B-spline fit: the control polygon of the feature curve ----
@@ -305,7 +382,7 @@ std::vector<double> ArcFractions(const FeatureCurve& curve, const SampledPath& p
     double laps = double(best_k / ns);
     u[i] = (path.arc[best_k % ns] + laps * path.length) / path.length;
   }
-  if (curve.closed)
+  if (path.periodic)
     for (double& x : u) x -= std::floor(x);
   else
     for (double& x : u) x = std::clamp(x, 0.0, 1.0);
@@ -479,19 +556,25 @@ StatusOr<Image> CreateFromCurves(const CurveDrawing& drawing, const CreateOption
   std::vector<FittedCurve> fitted;
   std::vector<FeatureCurve> features;
   for (const ColoredCurve& c : drawing.curves) {
-    SampledPath path = SamplePath(c, options.corner_angle_deg);
-    const size_t need = c.closed ? 3 : 2;
-    if (path.points.size() < need) continue;  // shorter than a sample spacing: nothing to draw
-    FittedCurve f;
-    f.feature = FitCurve(path, c.sharpness, options, max_segment);
-    if (f.feature.points.size() < need) continue;
-    std::vector<double> u = ArcFractions(f.feature, path);
-    for (double x : u) {
-      f.left.push_back(ColorAt(c.left, x, c.closed));
-      f.right.push_back(ColorAt(c.right, x, c.closed));
+    // Clip where the pair would leave the frame (less the placement's clearance): the
+    // pair then runs up to the frame instead of being trimmed a whole segment short.
+    const double d = std::max<double>(options.min_distance, options.rho * (1.0 - c.sharpness));
+    const double margin = options.clearance + 0.5 * d + options.fit_tolerance + 0.25;
+    for (const SampledPath& path :
+         ClipToFrame(SamplePath(c, options.corner_angle_deg), drawing.width, drawing.height, margin)) {
+      const size_t need = path.closed ? 3 : 2;
+      if (path.points.size() < need) continue;  // shorter than a sample spacing: nothing to draw
+      FittedCurve f;
+      f.feature = FitCurve(path, c.sharpness, options, max_segment);
+      if (f.feature.points.size() < need) continue;
+      std::vector<double> u = ArcFractions(f.feature, path);
+      for (double x : u) {
+        f.left.push_back(ColorAt(c.left, x, c.closed));
+        f.right.push_back(ColorAt(c.right, x, c.closed));
+      }
+      features.push_back(f.feature);
+      fitted.push_back(std::move(f));
     }
-    features.push_back(f.feature);
-    fitted.push_back(std::move(f));
   }
 
   ControlMeshOptions mesh_options;
