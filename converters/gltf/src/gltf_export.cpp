@@ -20,6 +20,7 @@
 #include <draco/compression/encode.h>
 #include <draco/mesh/mesh.h>
 
+#include "sdvi/export_levels.h"
 #include "sdvi/file_util.h"
 #include "sdvi/subdiv.h"
 
@@ -29,10 +30,6 @@
 
 namespace sdvi {
 namespace {
-
-constexpr int kDefaultLevelCap = 5;
-constexpr uint64_t kDefaultFineTriangleCap = uint64_t(1) << 21;
-constexpr double kTargetFineArea = 2.0;  // source pixels^2 per fine triangle
 
 constexpr int kArrayBuffer = TINYGLTF_TARGET_ARRAY_BUFFER;
 constexpr int kElementArrayBuffer = TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER;
@@ -383,21 +380,7 @@ float SrgbToLinear(float srgb) {
   return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f);
 }
 
-int DefaultGltfLevels(const Image& image) {
-  if (image.triangles.empty()) return 0;
-  double area = 0;
-  for (const Triangle& t : image.triangles) area += std::abs(SignedArea2(image, t)) / 2;
-  const double mean_area = area / double(image.triangles.size());
-  int levels = 0;
-  while (levels < kDefaultLevelCap && mean_area / std::pow(4.0, levels) > kTargetFineArea) {
-    ++levels;
-  }
-  while (levels > 0 &&
-         uint64_t(image.triangles.size()) << (2 * levels) > kDefaultFineTriangleCap) {
-    --levels;
-  }
-  return levels;
-}
+int DefaultGltfLevels(const Image& image) { return DefaultExportLevels(image); }
 
 StatusOr<GltfContainer> GltfContainerForPath(const std::string& path) {
   const std::string ext = FileExtension(path);

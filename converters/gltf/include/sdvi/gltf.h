@@ -54,8 +54,8 @@ struct GltfExport {
   uint64_t draco_bytes = 0;       // size of the Draco buffer view (0 without --draco)
 };
 
-// The level r whose fine triangles average at most ~2 source pixels in area, capped at
-// 5 and at ~2M fine triangles; 0 for an empty mesh.
+// DefaultExportLevels (sdvi/export_levels.h): fine triangles of ~2 source pixels in
+// area, capped at 5 and at ~2M fine triangles; 0 for an empty mesh.
 int DefaultGltfLevels(const Image& image);
 
 // The sRGB transfer function decoded: 0..1 sRGB -> 0..1 linear light (IEC 61966-2-1).
