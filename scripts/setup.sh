@@ -13,6 +13,10 @@ PACKAGES=(build-essential cmake ninja-build pkg-config
 PACKAGES+=(openexr libjpeg-turbo-progs webp libosd-dev clang libclang-rt-14-dev chromium)
 # Node.js: any install will do (the machine may carry a newer one than Debian's).
 command -v npm >/dev/null 2>&1 || PACKAGES+=(nodejs npm)
+# PDF export (converters/pdf): qpdf's library and zlib; the PDF tests' viewers and checker
+# (poppler-utils: pdftoppm, pdftocairo; mupdf-tools: mutool; qpdf --check); cairo for
+# bench_pdf's ShadingType 7 baseline.
+PACKAGES+=(libqpdf-dev zlib1g-dev qpdf poppler-utils mupdf-tools libcairo2-dev)
 if [ -n "${SDVI_EXTRA_PACKAGES:-}" ]; then PACKAGES+=(${SDVI_EXTRA_PACKAGES}); fi
 
 missing=()
