@@ -290,3 +290,61 @@ TEST_CASE("create: bad drawings give specific errors", "[create]") {
   o.rho = -1;
   CHECK(code({64, 64, {good}}, o) == StatusCode::kInvalidArgument);
 }
+
+TEST_CASE("create: random drawings give a valid image or a specific error, never a crash", "[create]") {
+  // Crossing, self-intersecting, tiny, degenerate-segment and out-of-frame curves.
+  uint32_t state = 12345;
+  auto next = [&]() {  // xorshift32: the same sequence on every platform
+    state ^= state << 13;
+    state ^= state >> 17;
+    state ^= state << 5;
+    return state;
+  };
+  auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * (next() % 100000) / 100000.0; };
+  int created = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    sdvi::CurveDrawing d{int(uniform(8, 120)), int(uniform(8, 120)), {}};
+    const int curves = 1 + int(next() % 8);
+    for (int c = 0; c < curves; ++c) {
+      sdvi::ColoredCurve curve;
+      curve.start = {uniform(-20, d.width + 20), uniform(-20, d.height + 20)};
+      const int segs = 1 + int(next() % 5);
+      const double reach = uniform(0.5, 60);
+      Point2 p = curve.start;
+      for (int s = 0; s < segs; ++s) {
+        auto jitter = [&](Point2 q) { return Point2{q.x + uniform(-reach, reach), q.y + uniform(-reach, reach)}; };
+        CubicBezier b{jitter(p), jitter(p), jitter(p)};
+        if (next() % 7 == 0) b = {p, p, p};  // a degenerate segment
+        curve.segments.push_back(b);
+        p = b.end;
+      }
+      curve.closed = next() % 2 == 0;
+      curve.left = {{0, {uniform(0, 255), uniform(0, 255), uniform(0, 255)}}};
+      curve.right = {{0.3, {uniform(0, 255), uniform(0, 255), uniform(0, 255)}},
+                     {0.9, {uniform(0, 255), uniform(0, 255), uniform(0, 255)}}};
+      curve.sharpness = float(uniform(0, 1));
+      d.curves.push_back(curve);
+    }
+    INFO("trial " << trial);
+    auto image = sdvi::CreateFromCurves(d, {});
+    if (!image.ok()) {
+      INFO(image.status().ToString());
+      CHECK((image.status().code() == sdvi::StatusCode::kEmptyInput ||
+             image.status().code() == sdvi::StatusCode::kInvalidArgument));
+      continue;
+    }
+    ++created;
+    // Colours stay within the range of the curves' colours (maximum principle).
+    for (const sdvi::Vertex& v : image->vertices) {
+      CHECK(v.r >= -1e-3f);
+      CHECK(v.r <= 255.001f);
+      CHECK(v.g >= -1e-3f);
+      CHECK(v.b <= 255.001f);
+    }
+    sdvi::RenderOptions options;
+    options.viewport = sdvi::Viewport::Identity(d.width, d.height);
+    options.threads = 1;
+    CHECK(sdvi::Render(*image, options).ok());
+  }
+  CHECK(created >= 20);
+}
