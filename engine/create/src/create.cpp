@@ -141,6 +141,7 @@ struct SampledPath {
   std::vector<uint32_t> corners;     // sample indices of kinked segment joins
   bool closed = false;               // this run is the whole closed path
   bool periodic = false;             // the whole path is closed (colours wrap around)
+  bool clipped_start = false, clipped_end = false;  // the run starts / ends at the frame
 };
 
 // Direction leaving a segment's start, or arriving at its end (the first non-zero of the
@@ -270,6 +271,7 @@ std::vector<SampledPath> ClipToFrame(const SampledPath& path, double width, doub
     const Point2 p = path.points[order[k]];
     if (!inside(p)) {
       if (!run.points.empty()) {
+        run.clipped_end = true;
         auto [q, s] = crossing(k - 1, k);
         if (Dist(q, run.points.back()) > 1e-6) {
           run.points.push_back(q);
@@ -283,6 +285,7 @@ std::vector<SampledPath> ClipToFrame(const SampledPath& path, double width, doub
       run.length = path.length;
       run.periodic = path.periodic;
       if (k > 0) {
+        run.clipped_start = true;
         auto [q, s] = crossing(k, k - 1);
         if (Dist(q, p) > 1e-6) {
           run.points.push_back(q);
@@ -296,6 +299,50 @@ std::vector<SampledPath> ClipToFrame(const SampledPath& path, double width, doub
   }
   finish();
   return runs;
+}
+
+// The drawing's rectangle as the domain boundary curve: corners tagged, sides split at most
+// max_segment apart, and graded finer (1.5, 3, 6, ... px) around the feet of the points
+// where curves were clipped, so that the two sides of a clipped curve do not meet across
+// one long frame edge (the harmonic colours would mix over that whole edge).
+FeatureCurve FrameBoundary(double width, double height, const std::vector<Point2>& clip_points,
+                           double max_segment) {
+  const Point2 corner[4] = {{0, 0}, {width, 0}, {width, height}, {0, height}};
+  std::vector<std::vector<double>> cuts(4);  // positions along each side, 0..side length
+  for (Point2 p : clip_points) {
+    const double dist[4] = {p.y, width - p.x, height - p.y, p.x};
+    const int side = int(std::min_element(dist, dist + 4) - dist);
+    const double t = side == 0 ? p.x : side == 1 ? p.y : side == 2 ? width - p.x : height - p.y;
+    cuts[side].push_back(t);
+    for (double step = 1.5; step < max_segment; step *= 2) {
+      cuts[side].push_back(t - step);
+      cuts[side].push_back(t + step);
+    }
+  }
+  FeatureCurve frame;
+  frame.closed = true;
+  frame.boundary = true;
+  for (int side = 0; side < 4; ++side) {
+    const Point2 a = corner[side], b = corner[(side + 1) % 4];
+    const double len = Dist(a, b);
+    std::vector<double> t{0, len};
+    for (double c : cuts[side])
+      if (c > 0.5 && c < len - 0.5) t.push_back(c);
+    std::sort(t.begin(), t.end());
+    std::vector<double> kept{0};  // no two cuts closer than 0.5 px
+    for (size_t i = 1; i < t.size(); ++i)
+      if (t[i] - kept.back() >= 0.5) kept.push_back(t[i]);
+    kept.back() = len;
+    frame.corners.push_back(uint32_t(frame.points.size()));
+    for (size_t i = 0; i + 1 < kept.size(); ++i) {
+      const int pieces = std::max(1, int(std::ceil((kept[i + 1] - kept[i]) / max_segment)));
+      for (int k = 0; k < pieces; ++k) {
+        const double u = (kept[i] + (kept[i + 1] - kept[i]) * k / pieces) / len;
+        frame.points.push_back({a.x + u * (b.x - a.x), a.y + u * (b.y - a.y)});
+      }
+    }
+  }
+  return frame;
 }
 
 // ---- B-spline fit: the control polygon of the feature curve ----
@@ -555,6 +602,7 @@ StatusOr<Image> CreateFromCurves(const CurveDrawing& drawing, const CreateOption
 
   std::vector<FittedCurve> fitted;
   std::vector<FeatureCurve> features;
+  std::vector<Point2> clip_points;
   for (const ColoredCurve& c : drawing.curves) {
     // Clip where the pair would leave the frame (less the placement's clearance): the
     // pair then runs up to the frame instead of being trimmed a whole segment short.
@@ -564,6 +612,8 @@ StatusOr<Image> CreateFromCurves(const CurveDrawing& drawing, const CreateOption
          ClipToFrame(SamplePath(c, options.corner_angle_deg), drawing.width, drawing.height, margin)) {
       const size_t need = path.closed ? 3 : 2;
       if (path.points.size() < need) continue;  // shorter than a sample spacing: nothing to draw
+      if (path.clipped_start) clip_points.push_back(path.points.front());
+      if (path.clipped_end) clip_points.push_back(path.points.back());
       FittedCurve f;
       f.feature = FitCurve(path, c.sharpness, options, max_segment);
       if (f.feature.points.size() < need) continue;
@@ -576,6 +626,7 @@ StatusOr<Image> CreateFromCurves(const CurveDrawing& drawing, const CreateOption
       fitted.push_back(std::move(f));
     }
   }
+  features.push_back(FrameBoundary(drawing.width, drawing.height, clip_points, max_segment));
 
   ControlMeshOptions mesh_options;
   mesh_options.rho = options.rho;
