@@ -4,13 +4,15 @@
 //
 //   curve_examples [--svg-dir DIR] [--out DIR] [--scale S]
 //
-// cherries4 (the cherries at 4x size) measures a larger drawing; it has no SVG file.
+// cherries4 (the cherries at 4x size) and dots (400 circles) measure larger drawings; they
+// have no SVG file.
 // --svg-dir writes each drawing's SVG form (the sdvi curves namespace; this is how the
 // files in examples/curves are made), --out writes NAME.sdvi and NAME.png (rendered at
 // scale S, default 2). Prints, per drawing: curves, pairs kept, control vertices and
 // triangles, create and render times (ms), and whether a second create is identical.
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -246,6 +248,27 @@ sdvi::CurveDrawing Scaled(sdvi::CurveDrawing d, double k) {
   return d;
 }
 
+// A 20 x 20 grid of small circles with colours from a fixed sequence, on 1024 x 1024: many
+// curves, for timing.
+sdvi::CurveDrawing Dots() {
+  sdvi::CurveDrawing d{1024, 1024, {}};
+  uint32_t state = 2463534242u;
+  auto next = [&]() {
+    state ^= state << 13;
+    state ^= state >> 17;
+    state ^= state << 5;
+    return float(state % 256);
+  };
+  for (int j = 0; j < 20; ++j)
+    for (int i = 0; i < 20; ++i) {
+      const double r = 12 + (i + j) % 5 * 2;
+      ColoredCurve c = Blob(30 + 51 * i, 30 + 51 * j, [&](double) { return r; }, 8);
+      d.curves.push_back(Colored(c, Const({next(), next(), next()}), Const({next(), next(), next()}),
+                                 float((i * 7 + j * 3) % 11) / 10, "dot"));
+    }
+  return d;
+}
+
 // ---- SVG form (spec/CURVES.md section 2) ----
 
 std::string Hex(CurveColor c) {
@@ -336,12 +359,14 @@ int main(int argc, char** argv) {
       {"sharpness", "Sharpness 1, 0.75, 0.5, 0.25, 0 from left to right", Sharpness()},
       {"rainbow", "Colour stops along curves", Rainbow()},
       {"cherries4", "The cherries drawn 4x larger (1600x1200)", Scaled(Cherries(), 4)},
+      {"dots", "400 circles on 1024x1024", Dots()},
   };
   std::printf("%-10s %6s %6s %8s %9s %10s %10s %9s\n", "drawing", "curves", "pairs", "vertices", "triangles",
               "create_ms", "render_ms", "identical");
   int failures = 0;
   for (const Example& e : examples) {
-    if (!svg_dir.empty() && std::string(e.name) != "cherries4") {
+    const bool timing_only = std::string(e.name) == "cherries4" || std::string(e.name) == "dots";
+    if (!svg_dir.empty() && !timing_only) {
       std::ofstream f(svg_dir + "/" + e.name + ".svg", std::ios::binary);
       f << Svg(e.drawing, e.title);
       if (!f) {

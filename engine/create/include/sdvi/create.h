@@ -64,10 +64,12 @@ struct ColoredCurve {
   std::string name;  // names the curve in error messages (e.g. the SVG element id)
 };
 
-// A drawing: a width x height rectangle (the image domain) and its curves. Curves (or
-// parts of them) outside the rectangle are clipped away; where two curves cross or come
-// closer than CreateOptions::clearance, the longer one is kept whole and the other is cut
-// there (the rule of the vectorizer's feature placement).
+// A drawing: a width x height rectangle (the image domain) and its curves. Curves are
+// clipped a few pixels inside the rectangle (where their pair would reach the frame's
+// clearance; each part inside becomes a curve of its own, its colour offsets still measured
+// along the whole path); where two curves cross or come closer than
+// CreateOptions::clearance, the longer one is kept whole and the other is cut there (the
+// rule of the vectorizer's feature placement). spec/CURVES.md section 1 has the details.
 struct CurveDrawing {
   int width = 0, height = 0;
   std::vector<ColoredCurve> curves;
@@ -78,7 +80,8 @@ struct CreateOptions {
   float min_distance = 1.0f;   // floor on the pair distance, px (keeps triangles sound)
   double fit_tolerance = 0.5;  // B-spline fit: max distance from the Bezier path, px
   double max_spacing = 12;     // B-spline fit: max arc length per control-polygon segment, px
-  double corner_angle_deg = 30;  // a join of Bezier segments turning more than this is a corner
+  double corner_angle_deg = 30;  // a join of Bezier segments turning more than this is a
+                                 // corner (smooth editor nodes turn by 0, cusps usually more)
   float min_angle_deg = 20;    // CDT quality bound
   float max_edge = 0;          // CDT size bound, px; 0 = max(8, sqrt(width * height) / 12)
   float clearance = 1.0f;      // min distance between different feature polylines, px
@@ -87,8 +90,8 @@ struct CreateOptions {
   size_t max_curves = 100000;
   size_t max_segments = 1000000;   // Bezier segments over all curves
   size_t max_color_stops = 100000; // stops over all curves and sides
-  double max_length = 1e7;         // arc length over all curves (bounded by the control
-                                   // polygons' length), px
+  double max_length = 2e6;         // arc length over all curves (bounded by the control
+                                   // polygons' length), px; sampled every 0.5 px
 };
 
 // Builds the image of drawing: a control mesh whose feature layer holds one pair per
