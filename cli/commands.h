@@ -20,5 +20,6 @@ int RunExportGltf(const CommandArgs& args);   // cmd_gltf.cpp: .sdvi -> .glb / .
 int RunCompress(const CommandArgs& args);     // cmd_codec.cpp: raw -> Draco payload
 int RunDecompress(const CommandArgs& args);   // cmd_codec.cpp: Draco -> raw payload
 int RunSample(const CommandArgs& args);       // cmd_vectorize.cpp: writes the built-in sample image
+int RunImportSvg(const CommandArgs& args);    // cmd_import_svg.cpp: SVG -> .sdvi
 
 }  // namespace sdvi::cli

@@ -19,6 +19,9 @@ const Command kCommands[] = {
      "IN.png|jpg|tif|bmp -o OUT.sdvi [--target-psnr dB] [--max-triangles N] [--iterations K] "
      "[--compression-ratio R] [--mask M] [--report R.json] [--debug-dir D] [--threads N] [--compress] "
      "[--quiet]"},
+    {"import-svg", sdvi::cli::RunImportSvg,
+     "IN.svg -o OUT.sdvi [--mode artwork] [--width W | --scale S] [--max-triangles N] "
+     "[--target-psnr dB] [--report R.json] [--debug-dir D] [--threads N] [--quiet]   (spec/SVG.md)"},
     {"render", sdvi::cli::RunRender,
      "IN.sdvi -o OUT.png|OUT.exr [--scale S | --width W --height H] [--region x,y,w,h] "
      "[--levels r] [--bits 8|16] [--half] [--reference IMG]"},

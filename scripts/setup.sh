@@ -11,6 +11,9 @@ PACKAGES=(build-essential cmake ninja-build pkg-config
 # cwebp (webp), clang for the fuzz target, OpenSubdiv as a benchmark peer, node/npm for
 # the glTF validator and the three.js viewer test, chromium for the viewer test.
 PACKAGES+=(openexr libjpeg-turbo-progs webp libosd-dev clang libclang-rt-14-dev chromium)
+# SVG import (converters/svg): librsvg, cairo (script surface), libxml2; rsvg-convert for
+# scripts/svg_tables.sh.
+PACKAGES+=(librsvg2-dev libcairo2-dev libxml2-dev librsvg2-bin)
 # Node.js: any install will do (the machine may carry a newer one than Debian's).
 command -v npm >/dev/null 2>&1 || PACKAGES+=(nodejs npm)
 # PDF export (converters/pdf): qpdf's library and zlib; the PDF tests' viewers and checker

@@ -116,10 +116,10 @@ void AddFitTimes(const ColorFit& fit, VectorizeTimings& t) {
   t.solve += fit.seconds_solve;
 }
 
-}  // namespace
-
-StatusOr<VectorizeResult> Vectorize(const Raster& raster, const Raster* mask,
-                                    const VectorizeOptions& options) {
+// The driver; `given` (when non-null) replaces edge detection (VectorizeWithFeatures).
+StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask,
+                                        const std::vector<FeatureCurve>* given,
+                                        const VectorizeOptions& options) {
   const Clock::time_point all_start = Clock::now();
   if (raster.empty() || raster.data.size() != size_t(raster.width) * raster.height * raster.channels) {
     return Status(StatusCode::kEmptyInput, "vectorize: the input raster is empty or malformed");
@@ -163,8 +163,11 @@ StatusOr<VectorizeResult> Vectorize(const Raster& raster, const Raster* mask,
   // 1-2. Curvilinear features and their B-splines.
   phase("features");
   Clock::time_point start = Clock::now();
+  FeatureOptions feature_options = options.features;
+  if (given != nullptr) feature_options.detect_edges = false;  // domain contours only
   SDVI_ASSIGN_OR_RETURN(std::vector<FeatureCurve> detected,
-                        DetectFeatures(raster, mask, options.features));
+                        DetectFeatures(raster, mask, feature_options));
+  if (given != nullptr) detected.insert(detected.end(), given->begin(), given->end());
   std::vector<FeatureCurve> curves = KeepFeaturesWithinBudget(
       detected, options.max_feature_fraction * vertex_budget, options.mesh.pairs);
   seconds.features += SecondsSince(start);
@@ -344,6 +347,19 @@ StatusOr<VectorizeResult> Vectorize(const Raster& raster, const Raster* mask,
   seconds.total = SecondsSince(all_start);
   if (progress != nullptr) progress->Done();
   return result;
+}
+
+}  // namespace
+
+StatusOr<VectorizeResult> Vectorize(const Raster& raster, const Raster* mask,
+                                    const VectorizeOptions& options) {
+  return VectorizeFrom(raster, mask, nullptr, options);
+}
+
+StatusOr<VectorizeResult> VectorizeWithFeatures(const Raster& raster, const Raster* mask,
+                                                const std::vector<FeatureCurve>& features,
+                                                const VectorizeOptions& options) {
+  return VectorizeFrom(raster, mask, &features, options);
 }
 
 Raster ErrorImage(const Raster& reconstruction, const Raster& reference) {

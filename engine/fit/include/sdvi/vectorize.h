@@ -118,6 +118,15 @@ struct VectorizeResult {
 StatusOr<VectorizeResult> Vectorize(const Raster& raster, const Raster* mask,
                                     const VectorizeOptions& options);
 
+// Vectorize with the interior features given instead of detected, for importers that know
+// the exact curves (SVG artwork): edge detection is skipped, the domain contours of an
+// object image are still found from alpha / mask, and `features` (non-boundary curves in
+// source pixels) are added after them; the rest (budget filter, mesh, fit, refinement) is
+// Vectorize's. Errors: those of Vectorize and of BuildControlMesh for bad curves.
+StatusOr<VectorizeResult> VectorizeWithFeatures(const Raster& raster, const Raster* mask,
+                                                const std::vector<FeatureCurve>& features,
+                                                const VectorizeOptions& options);
+
 // A per-pixel error picture for people (paper Fig. 10): |difference| summed over R, G, B,
 // amplified 4x, drawn black (exact) to white; pixels outside the domain are mid grey.
 Raster ErrorImage(const Raster& reconstruction, const Raster& reference);

@@ -1,0 +1,155 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// SVG import (spec/SVG.md): a safety check of the XML (libxml2), librsvg for the geometry
+// and the reference raster, and the artwork mode that turns a drawing into an sdvi image.
+//
+// Stack. librsvg (Debian librsvg2 2.54) parses and renders the document, loaded from memory
+// with no base URI so that nothing outside the bytes is ever read. The geometry is captured
+// by rendering the same document, at the same viewport, into a cairo script surface: its
+// text is every painted path in device space (viewBox, preserveAspectRatio, units,
+// transforms, use/symbol, shapes, arcs already resolved by librsvg) followed by the
+// operator that painted it (fill, stroke with its width, clip). So one engine gives both
+// the exact outlines and the raster the colours are fitted to.
+//
+// Safety. Before librsvg sees the bytes, CheckSvg reads them once with libxml2's streaming
+// reader (no network, no DTD loading, no entity substitution) and enforces SvgLimits; every
+// breach is its own SvgError, and the Status message names the input and the limit.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "sdvi/features.h"
+#include "sdvi/raster.h"
+#include "sdvi/status.h"
+#include "sdvi/vectorize.h"
+
+namespace sdvi {
+
+// The specific reason an SVG was refused (the Status carries the general StatusCode).
+enum class SvgError : int {
+  kNone = 0,
+  kFileTooLarge,         // more bytes than SvgLimits::max_bytes (kLimitExceeded)
+  kTooManyElements,      // more elements than max_elements (kLimitExceeded)
+  kTooDeep,              // element nesting deeper than max_depth (kLimitExceeded)
+  kTooManyPathCommands,  // path/polyline commands in all over max_path_commands (kLimitExceeded)
+  kUseExpansion,         // elements after expanding every <use> over max_use_expansion (kLimitExceeded)
+  kUseCycle,             // a <use> that references itself, directly or through others (kCorrupt)
+  kEntityDeclaration,    // an <!ENTITY> declaration: entities are never expanded (kUnsupportedFormat)
+  kExternalEntity,       // an external (SYSTEM / PUBLIC) entity declaration (kUnsupportedFormat)
+  kXInclude,             // an element in the XInclude namespace (kUnsupportedFormat)
+  kMalformedXml,         // not well-formed XML, or no <svg> root (kDecodeFailed)
+  kBadPathData,          // a path's d or a polyline's points that do not parse (kDecodeFailed)
+  kSizeTooLarge,         // output width or height over max_dimension, or pixels over max_pixels (kLimitExceeded)
+  kNoSize,               // the document has no size and none was given (kInvalidArgument)
+  kRenderFailed,         // librsvg refused to load or render the document (kDecodeFailed)
+};
+
+// Stable lower_snake name, e.g. "too_many_elements".
+std::string_view SvgErrorName(SvgError error);
+
+// Input limits (defaults suit icons, drawings and the W3C suite with a wide margin).
+struct SvgLimits {
+  size_t max_bytes = size_t(32) << 20;      // file size
+  size_t max_elements = 100000;             // elements in the document
+  int max_depth = 128;                      // element nesting (the root is depth 1)
+  size_t max_path_commands = 2000000;       // path segments, all paths together
+  size_t max_use_expansion = 200000;        // elements drawn after expanding <use>
+  int max_dimension = 16384;                // output raster width or height, px
+  uint64_t max_pixels = uint64_t(64) << 20; // output raster width x height
+};
+
+// A checked document, ready for librsvg.
+struct SvgDocument {
+  std::string name;              // file name used in messages
+  std::string bytes;             // the document
+  double width = 0, height = 0;  // intrinsic size in px (96 dpi); 0 when it has none
+  size_t elements = 0;
+  // Elements whose rendering the artwork mode only approximates (no exact features for
+  // them; their colours are fitted like a raster): "text (line 12)", "filter (line 30)".
+  std::vector<std::string> unsupported;
+  std::vector<std::string> warnings;  // references to other files, which are not loaded
+};
+
+// Checks bytes against limits and the safety rules (header comment), then loads them with
+// librsvg to learn the intrinsic size. On failure *error (when non-null) says which rule.
+StatusOr<SvgDocument> LoadSvg(std::string bytes, const std::string& name, const SvgLimits& limits,
+                              SvgError* error = nullptr);
+
+// Reads path (size checked before reading) and calls LoadSvg.
+StatusOr<SvgDocument> LoadSvgFile(const std::string& path, const SvgLimits& limits,
+                                  SvgError* error = nullptr);
+
+// The output raster size: width > 0 (height keeps the aspect ratio), or scale > 0 times
+// the intrinsic size, or the intrinsic size; rounded, at least 1 px.
+struct SvgSize {
+  int width = 0, height = 0;
+};
+StatusOr<SvgSize> ChooseSvgSize(const SvgDocument& document, int width, double scale,
+                                const SvgLimits& limits, SvgError* error = nullptr);
+
+// librsvg's rendering of the document into width x height (viewBox and
+// preserveAspectRatio applied to that viewport): RGBA, colours 0..255 not premultiplied,
+// alpha 0..1. This is the reference the artwork mode fits.
+StatusOr<Raster> RenderSvg(const SvgDocument& document, int width, int height);
+
+// One subpath as painted, in output pixels: points[0] is the start, then three points
+// (two Bezier controls and the end) per cubic segment; lines come as cubics with controls
+// at thirds.
+struct SvgOutline {
+  std::vector<Point2> points;
+  bool closed = false;
+};
+
+enum class SvgPaint { kFill, kStroke, kClip };
+
+// One painting operation: a path filled, stroked (stroke_width in output pixels) or used
+// as a clip.
+struct SvgShape {
+  SvgPaint paint = SvgPaint::kFill;
+  double stroke_width = 0;
+  std::vector<SvgOutline> outlines;
+};
+
+// The painted paths of the document at the same viewport as RenderSvg, in painting order.
+StatusOr<std::vector<SvgShape>> TraceSvgGeometry(const SvgDocument& document, int width, int height);
+
+// Artwork mode (spec/SVG.md): the outlines that are colour discontinuities in the reference
+// become sharp features; colours come from the vectorizer's fit to the reference.
+struct SvgArtworkOptions {
+  int width = 0;       // output width (0: from scale or the intrinsic size)
+  double scale = 0;    // output size = scale x intrinsic size (0: 1)
+  SvgLimits limits;
+  VectorizeOptions vectorize;
+  double tolerance = 0.5;         // px: max distance from the B-spline to the exact outline
+  double corner_angle_deg = 25;   // a turn of more than this at a segment joint keeps a kink
+  double min_contrast = 16;       // RMS step over R, G, B (0..255) across an outline, 1.5 px
+                                  // either side, that makes it a feature
+  double min_length = 4;          // px: shorter feature runs are dropped
+  double sample_spacing = 0.5;    // px between outline samples
+};
+
+struct SvgArtworkResult {
+  VectorizeResult vectorized;       // the image, its report, the curves used
+  Raster reference;                 // librsvg's rendering the colours were fitted to
+  std::vector<std::string> warnings;
+  bool approximate = false;         // true when some element has no exact features
+  uint32_t outline_features = 0;    // features that came from the SVG's outlines
+};
+
+// The features of the artwork mode: for each outline (top-most shape first) the samples
+// where the reference changes colour across it by min_contrast with both sides inside the
+// domain (alpha > 0.5), not already covered by a feature of a shape above; runs of them
+// longer than min_length fitted by B-splines within tolerance, kinks kept at segment joints
+// that turn by more than corner_angle_deg. Stroke outlines are the two sides of the stroke.
+std::vector<FeatureCurve> ArtworkFeatures(const std::vector<SvgShape>& shapes, const Raster& reference,
+                                          const SvgArtworkOptions& options);
+
+// The whole artwork import. Errors: those of ChooseSvgSize, RenderSvg, TraceSvgGeometry and
+// VectorizeWithFeatures.
+StatusOr<SvgArtworkResult> ImportSvgArtwork(const SvgDocument& document, const SvgArtworkOptions& options,
+                                            SvgError* error = nullptr);
+
+}  // namespace sdvi

@@ -1,0 +1,329 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The artwork mode (spec/SVG.md): exact outlines -> sharp features -> the vectorizer's mesh,
+// colour fit and refinement against librsvg's raster.
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "sdvi/bspline.h"
+#include "svg_internal.h"
+
+namespace sdvi {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kProbe = 1.5;  // px either side of an outline where the colours are compared
+
+struct Sample {
+  Point2 p;
+  Point2 normal;        // unit, left of the direction of travel
+  bool corner = false;  // a segment joint that keeps a kink
+};
+
+Point2 Sub(Point2 a, Point2 b) { return {a.x - b.x, a.y - b.y}; }
+double Norm(Point2 a) { return std::hypot(a.x, a.y); }
+
+Point2 Bezier(const Point2* q, double t) {
+  const double u = 1 - t;
+  const double b0 = u * u * u, b1 = 3 * u * u * t, b2 = 3 * u * t * t, b3 = t * t * t;
+  return {b0 * q[0].x + b1 * q[1].x + b2 * q[2].x + b3 * q[3].x,
+          b0 * q[0].y + b1 * q[1].y + b2 * q[2].y + b3 * q[3].y};
+}
+
+// Direction leaving q[0] (first of q1, q2, q3 distinct from q0) and arriving at q[3].
+Point2 StartTangent(const Point2* q) {
+  for (int k = 1; k <= 3; ++k) {
+    const Point2 d = Sub(q[k], q[0]);
+    if (Norm(d) > 1e-9) return d;
+  }
+  return {0, 0};
+}
+Point2 EndTangent(const Point2* q) {
+  for (int k = 2; k >= 0; --k) {
+    const Point2 d = Sub(q[3], q[k]);
+    if (Norm(d) > 1e-9) return d;
+  }
+  return {0, 0};
+}
+
+double TurnDegrees(Point2 a, Point2 b) {
+  const double na = Norm(a), nb = Norm(b);
+  if (na <= 0 || nb <= 0) return 0;
+  const double c = std::clamp((a.x * b.x + a.y * b.y) / (na * nb), -1.0, 1.0);
+  return std::acos(c) * 180.0 / kPi;
+}
+
+// Samples of one outline about `spacing` apart (closed: the start is not repeated), with
+// corner flags at joints turning by more than corner_deg and normals from the samples.
+std::vector<Sample> Flatten(const SvgOutline& outline, double spacing, double corner_deg) {
+  std::vector<Sample> out;
+  const size_t segments = (outline.points.size() - 1) / 3;
+  std::vector<size_t> kept;  // non-degenerate segments
+  for (size_t s = 0; s < segments; ++s) {
+    const Point2* q = &outline.points[3 * s];
+    if (Norm(StartTangent(q)) > 1e-9) kept.push_back(s);
+  }
+  if (kept.empty()) return out;
+  for (size_t k = 0; k < kept.size(); ++k) {
+    const Point2* q = &outline.points[3 * kept[k]];
+    bool corner = false;
+    if (k > 0 || outline.closed) {
+      const Point2* prev = &outline.points[3 * kept[k > 0 ? k - 1 : kept.size() - 1]];
+      corner = TurnDegrees(EndTangent(prev), StartTangent(q)) > corner_deg;
+    }
+    const double length = Norm(Sub(q[1], q[0])) + Norm(Sub(q[2], q[1])) + Norm(Sub(q[3], q[2]));
+    const int n = std::max(1, int(std::ceil(length / spacing)));
+    for (int i = 0; i < n; ++i) {
+      Sample s;
+      s.p = Bezier(q, double(i) / n);
+      s.corner = i == 0 && corner;
+      if (!out.empty() && Norm(Sub(s.p, out.back().p)) < 1e-6) {
+        out.back().corner = out.back().corner || s.corner;
+        continue;
+      }
+      out.push_back(s);
+    }
+  }
+  if (!outline.closed) {
+    Sample end;
+    end.p = outline.points.back();
+    if (out.empty() || Norm(Sub(end.p, out.back().p)) > 1e-6) out.push_back(end);
+  } else if (out.size() > 1 && Norm(Sub(out.front().p, out.back().p)) < 1e-6) {
+    out.pop_back();
+  }
+  const size_t m = out.size();
+  for (size_t i = 0; i < m; ++i) {
+    const bool has_prev = i > 0 || outline.closed, has_next = i + 1 < m || outline.closed;
+    const Point2 a = has_prev ? out[(i + m - 1) % m].p : out[i].p;
+    const Point2 b = has_next ? out[(i + 1) % m].p : out[i].p;
+    Point2 d = Sub(b, a);
+    const double len = Norm(d);
+    out[i].normal = len > 0 ? Point2{-d.y / len, d.x / len} : Point2{0, 0};
+  }
+  return out;
+}
+
+// Bilinear sample of channel c at (x, y) in pixel-centre coordinates (pixel i covers
+// [i, i + 1)); false outside the raster.
+bool Bilinear(const Raster& r, double x, double y, float out[4]) {
+  const double fx = x - 0.5, fy = y - 0.5;
+  if (!(fx >= 0 && fy >= 0 && fx <= r.width - 1 && fy <= r.height - 1)) return false;
+  const int x0 = std::min(int(fx), r.width - 1), y0 = std::min(int(fy), r.height - 1);
+  const int x1 = std::min(x0 + 1, r.width - 1), y1 = std::min(y0 + 1, r.height - 1);
+  const double ax = fx - x0, ay = fy - y0;
+  for (int c = 0; c < r.channels; ++c) {
+    out[c] = float((1 - ay) * ((1 - ax) * r.at(x0, y0, c) + ax * r.at(x1, y0, c)) +
+                   ay * ((1 - ax) * r.at(x0, y1, c) + ax * r.at(x1, y1, c)));
+  }
+  return true;
+}
+
+// RMS colour step over R, G, B between a and b; -1 when either lies outside the domain.
+double Contrast(const Raster& reference, Point2 a, Point2 b) {
+  float ca[4] = {0, 0, 0, 1}, cb[4] = {0, 0, 0, 1};
+  if (!Bilinear(reference, a.x, a.y, ca) || !Bilinear(reference, b.x, b.y, cb)) return -1;
+  if (reference.channels == 4 && (ca[3] <= 0.5f || cb[3] <= 0.5f)) return -1;
+  double sum = 0;
+  for (int c = 0; c < 3; ++c) sum += double(ca[c] - cb[c]) * (ca[c] - cb[c]);
+  return std::sqrt(sum / 3.0);
+}
+
+class ClaimMap {
+ public:
+  ClaimMap(int w, int h) : w_(w), h_(h), bits_(size_t(w) * h, 0) {}
+  bool Claimed(Point2 p) const {
+    const int x = int(std::floor(p.x)), y = int(std::floor(p.y));
+    return x >= 0 && y >= 0 && x < w_ && y < h_ && bits_[size_t(y) * w_ + x];
+  }
+  void Claim(Point2 p, double radius) {
+    const int r = int(std::ceil(radius));
+    const int cx = int(std::floor(p.x)), cy = int(std::floor(p.y));
+    for (int y = cy - r; y <= cy + r; ++y) {
+      for (int x = cx - r; x <= cx + r; ++x) {
+        if (x < 0 || y < 0 || x >= w_ || y >= h_) continue;
+        if (std::hypot(x + 0.5 - p.x, y + 0.5 - p.y) <= radius) bits_[size_t(y) * w_ + x] = 1;
+      }
+    }
+  }
+
+ private:
+  int w_, h_;
+  std::vector<uint8_t> bits_;
+};
+
+// One candidate polyline: a fill outline, or one side of a stroke (offset along the normal).
+struct Side {
+  std::vector<Sample> samples;
+  bool closed = false;
+  double inner_probe = kProbe;  // how far inside the colour is read (thin strokes: less)
+  double outward = 0;           // +1 / -1: the outside is along +normal / -normal; 0: either
+};
+
+std::vector<Side> SidesOf(const SvgShape& shape, const SvgOutline& outline, const SvgArtworkOptions& o) {
+  std::vector<Sample> centre = Flatten(outline, o.sample_spacing, o.corner_angle_deg);
+  std::vector<Side> sides;
+  if (centre.size() < 2) return sides;
+  if (shape.paint != SvgPaint::kStroke) {
+    sides.push_back({std::move(centre), outline.closed, kProbe, 0});
+    return sides;
+  }
+  const double half = shape.stroke_width / 2;
+  if (half <= 0) return sides;
+  for (double sign : {1.0, -1.0}) {
+    Side side;
+    side.closed = outline.closed;
+    side.inner_probe = std::clamp(half, 0.5, kProbe);
+    side.outward = sign;
+    for (const Sample& s : centre) {
+      Sample t = s;
+      t.p = {s.p.x + sign * half * s.normal.x, s.p.y + sign * half * s.normal.y};
+      side.samples.push_back(t);
+    }
+    sides.push_back(std::move(side));
+  }
+  return sides;
+}
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+// Fits one run of accepted samples (indices into side.samples, in order) and appends it.
+void EmitRun(const Side& side, const std::vector<size_t>& run, bool closed, const std::vector<double>& contrast,
+             bool stroke, const SvgArtworkOptions& o, std::vector<FeatureCurve>* out) {
+  std::vector<Point2> points;
+  std::vector<uint32_t> corners;
+  std::vector<double> steps;
+  double length = 0;
+  for (size_t k = 0; k < run.size(); ++k) {
+    const Sample& s = side.samples[run[k]];
+    if (!points.empty()) length += Norm(Sub(s.p, points.back()));
+    // A stroke side is offset from the centreline: at a kink it jumps (the join fills the
+    // gap), so stroke sides are cut at corners instead of kept as kinks.
+    if (s.corner && !stroke && k > 0 && (closed || k + 1 < run.size())) corners.push_back(uint32_t(points.size()));
+    points.push_back(s.p);
+    steps.push_back(contrast[run[k]]);
+  }
+  if (closed && points.size() > 1) length += Norm(Sub(points.front(), points.back()));
+  if (length < o.min_length || points.size() < (closed ? 4u : 2u)) return;
+  BSplineFitOptions fit;
+  fit.tolerance = o.tolerance;
+  FeatureCurve curve = FitChain(points, closed, corners, fit);
+  if (curve.points.size() < 2) return;
+  curve.sharpness = 1.0f;
+  curve.boundary = false;
+  curve.contrast = float(Median(steps));
+  out->push_back(std::move(curve));
+}
+
+}  // namespace
+
+std::vector<FeatureCurve> ArtworkFeatures(const std::vector<SvgShape>& shapes, const Raster& reference,
+                                          const SvgArtworkOptions& o) {
+  std::vector<FeatureCurve> curves;
+  ClaimMap claimed(reference.width, reference.height);
+  const double claim_radius = 2.0;
+  // Top-most first: where two outlines coincide, the visible (upper) one is kept.
+  for (auto shape = shapes.rbegin(); shape != shapes.rend(); ++shape) {
+    const bool stroke = shape->paint == SvgPaint::kStroke;
+    for (const SvgOutline& outline : shape->outlines) {
+      for (const Side& side : SidesOf(*shape, outline, o)) {
+        const size_t n = side.samples.size();
+        std::vector<double> contrast(n, -1);
+        std::vector<uint8_t> accept(n, 0);
+        for (size_t i = 0; i < n; ++i) {
+          const Sample& s = side.samples[i];
+          if (claimed.Claimed(s.p)) continue;
+          const Point2 nrm = s.normal;
+          double out_d = kProbe, in_d = side.inner_probe;
+          const double dir = side.outward != 0 ? side.outward : 1.0;
+          const Point2 a{s.p.x + dir * out_d * nrm.x, s.p.y + dir * out_d * nrm.y};
+          const Point2 b{s.p.x - dir * in_d * nrm.x, s.p.y - dir * in_d * nrm.y};
+          contrast[i] = Contrast(reference, a, b);
+          accept[i] = contrast[i] >= o.min_contrast && !(stroke && s.corner) ? 1 : 0;
+        }
+        // Runs of accepted samples; a closed side accepted everywhere stays closed.
+        const bool all = std::all_of(accept.begin(), accept.end(), [](uint8_t a) { return a != 0; });
+        std::vector<size_t> run;
+        const size_t before = curves.size();
+        if (all && side.closed) {
+          for (size_t i = 0; i < n; ++i) run.push_back(i);
+          EmitRun(side, run, true, contrast, stroke, o, &curves);
+        } else {
+          size_t start = 0;
+          if (side.closed) {
+            while (start < n && accept[start]) ++start;  // begin after a rejected sample
+          }
+          for (size_t k = 0; k <= n; ++k) {
+            const size_t i = (start + k) % n;
+            const bool open_end = !side.closed && k == n;
+            if (k < n && !open_end && accept[i] && (side.closed || i >= start)) {
+              run.push_back(i);
+              continue;
+            }
+            if (!run.empty()) EmitRun(side, run, false, contrast, stroke, o, &curves);
+            run.clear();
+            if (!side.closed && k >= n) break;
+          }
+        }
+        for (size_t c = before; c < curves.size(); ++c) {
+          for (const Point2& p : SampleFeatureCurve(curves[c], 8)) claimed.Claim(p, claim_radius);
+        }
+      }
+    }
+  }
+  return curves;
+}
+
+StatusOr<SvgArtworkResult> ImportSvgArtwork(const SvgDocument& document, const SvgArtworkOptions& options,
+                                            SvgError* error) {
+  if (!(options.tolerance > 0) || !(options.sample_spacing > 0) || !(options.min_contrast >= 0) ||
+      !(options.min_length >= 0)) {
+    return Status(StatusCode::kInvalidArgument, document.name + ": artwork options out of range");
+  }
+  SDVI_ASSIGN_OR_RETURN(SvgSize size, ChooseSvgSize(document, options.width, options.scale, options.limits, error));
+  SvgArtworkResult result;
+  SDVI_ASSIGN_OR_RETURN(result.reference, RenderSvg(document, size.width, size.height));
+  SDVI_ASSIGN_OR_RETURN(std::vector<SvgShape> shapes, TraceSvgGeometry(document, size.width, size.height));
+  const std::vector<FeatureCurve> curves = ArtworkFeatures(shapes, result.reference, options);
+  result.outline_features = uint32_t(curves.size());
+
+  // An opaque drawing is a plain image; a transparent background makes an object image.
+  bool opaque = true, any = false;
+  const Raster& ref = result.reference;
+  for (size_t i = 0; i < size_t(ref.width) * ref.height; ++i) {
+    opaque = opaque && ref.data[4 * i + 3] >= 0.999f;
+    any = any || ref.data[4 * i + 3] > 0.5f;
+  }
+  if (!any) {
+    return Status(StatusCode::kEmptyInput, document.name + ": nothing is drawn (the rendering is transparent)");
+  }
+  Raster rgb;
+  const Raster* fitted = &ref;
+  if (opaque) {
+    rgb = Raster(ref.width, ref.height, 3);
+    for (size_t i = 0; i < size_t(ref.width) * ref.height; ++i) {
+      for (int c = 0; c < 3; ++c) rgb.data[3 * i + c] = ref.data[4 * i + c];
+    }
+    fitted = &rgb;
+  }
+  StatusOr<VectorizeResult> vectorized = VectorizeWithFeatures(*fitted, nullptr, curves, options.vectorize);
+  if (!vectorized.ok()) {
+    return Status(vectorized.status().code(), document.name + ": " + vectorized.status().message());
+  }
+  result.vectorized = std::move(vectorized).value();
+  result.warnings = document.warnings;
+  if (!document.unsupported.empty()) {
+    std::string list;
+    for (const std::string& u : document.unsupported) list += (list.empty() ? "" : ", ") + u;
+    result.warnings.push_back("approximate: no exact features for " + list +
+                              " (their colours are fitted to librsvg's rendering)");
+    result.approximate = true;
+  }
+  return result;
+}
+
+}  // namespace sdvi

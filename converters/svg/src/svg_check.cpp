@@ -1,0 +1,335 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// CheckSvg: the one pass over the XML before librsvg sees it (spec/SVG.md, "Safety").
+// libxml2's SAX2 parser with XML_PARSE_NONET and without XML_PARSE_NOENT /
+// XML_PARSE_DTDLOAD / XML_PARSE_XINCLUDE: no network, no external DTD or entity is read,
+// no entity is substituted, XInclude is never processed (and refused when present); the
+// first entity declaration or reference stops the parse.
+#include "svg_internal.h"
+
+#include <libxml/parser.h>
+#include <libxml/SAX2.h>
+#include <libxml/parserInternals.h>
+
+#include <algorithm>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace sdvi {
+namespace {
+
+constexpr const char* kXIncludeNamespace = "http://www.w3.org/2001/XInclude";
+constexpr const char* kXIncludeNamespace2003 = "http://www.w3.org/2003/XInclude";
+
+// Elements whose rendering has no exact features in the artwork mode.
+bool IsApproximated(std::string_view name) {
+  static const char* const kNames[] = {"text",      "filter",        "mask", "image",
+                                       "foreignObject", "pattern", "meshgradient",
+                                       "feImage"};
+  for (const char* n : kNames) {
+    if (name == n) return true;
+  }
+  return false;
+}
+
+struct Node {
+  int parent = -1;
+  std::string use_target;  // id referenced by a <use>, without '#'
+};
+
+std::string Str(const xmlChar* s) { return s != nullptr ? reinterpret_cast<const char*>(s) : ""; }
+
+// Elements drawn after expanding every <use> (each use adds its target's subtree), capped
+// at cap + 1; -1 when a use reaches itself.
+int64_t ExpandedSize(const std::vector<Node>& nodes, const std::unordered_map<std::string, int>& ids,
+                     uint64_t cap, int* cycle_node) {
+  const int n = int(nodes.size());
+  std::vector<std::vector<int>> deps(n);
+  for (int i = 0; i < n; ++i) {
+    if (nodes[i].parent >= 0) deps[nodes[i].parent].push_back(i);
+    if (!nodes[i].use_target.empty()) {
+      auto it = ids.find(nodes[i].use_target);
+      if (it != ids.end()) deps[i].push_back(it->second);
+    }
+  }
+  std::vector<uint8_t> state(n, 0);  // 0 new, 1 on the stack, 2 done
+  std::vector<uint64_t> size(n, 0);
+  for (int root = 0; root < n; ++root) {
+    if (state[root] != 0) continue;
+    std::vector<std::pair<int, size_t>> stack{{root, 0}};
+    state[root] = 1;
+    while (!stack.empty()) {
+      auto& [node, next] = stack.back();
+      if (next < deps[node].size()) {
+        const int d = deps[node][next++];
+        if (state[d] == 1) {
+          *cycle_node = node;
+          return -1;
+        }
+        if (state[d] == 0) {
+          state[d] = 1;
+          stack.push_back({d, 0});
+        }
+        continue;
+      }
+      uint64_t s = 1;
+      for (int d : deps[node]) s = std::min(cap + 1, s + size[d]);
+      size[node] = s;
+      state[node] = 2;
+      stack.pop_back();
+    }
+  }
+  return n > 0 ? int64_t(size[0]) : 0;
+}
+
+}  // namespace
+
+Status SvgFailure(SvgError code, const std::string& name, const std::string& what, SvgError* out) {
+  if (out != nullptr) *out = code;
+  StatusCode status = StatusCode::kDecodeFailed;
+  switch (code) {
+    case SvgError::kFileTooLarge:
+    case SvgError::kTooManyElements:
+    case SvgError::kTooDeep:
+    case SvgError::kTooManyPathCommands:
+    case SvgError::kUseExpansion:
+    case SvgError::kSizeTooLarge:
+      status = StatusCode::kLimitExceeded;
+      break;
+    case SvgError::kUseCycle:
+      status = StatusCode::kCorrupt;
+      break;
+    case SvgError::kEntityDeclaration:
+    case SvgError::kExternalEntity:
+    case SvgError::kXInclude:
+      status = StatusCode::kUnsupportedFormat;
+      break;
+    case SvgError::kNoSize:
+      status = StatusCode::kInvalidArgument;
+      break;
+    default:
+      break;
+  }
+  return Status(status, name + ": " + what + " [" + std::string(SvgErrorName(code)) + "]");
+}
+
+std::string_view SvgErrorName(SvgError error) {
+  switch (error) {
+    case SvgError::kNone: return "none";
+    case SvgError::kFileTooLarge: return "file_too_large";
+    case SvgError::kTooManyElements: return "too_many_elements";
+    case SvgError::kTooDeep: return "too_deep";
+    case SvgError::kTooManyPathCommands: return "too_many_path_commands";
+    case SvgError::kUseExpansion: return "use_expansion";
+    case SvgError::kUseCycle: return "use_cycle";
+    case SvgError::kEntityDeclaration: return "entity_declaration";
+    case SvgError::kExternalEntity: return "external_entity";
+    case SvgError::kXInclude: return "xinclude";
+    case SvgError::kMalformedXml: return "malformed_xml";
+    case SvgError::kBadPathData: return "bad_path_data";
+    case SvgError::kSizeTooLarge: return "size_too_large";
+    case SvgError::kNoSize: return "no_size";
+    case SvgError::kRenderFailed: return "render_failed";
+  }
+  return "unknown";
+}
+
+namespace {
+
+// State of the SAX pass; the first failure stops the parser.
+struct CheckState {
+  const std::string* name = nullptr;
+  const SvgLimits* limits = nullptr;
+  SvgCheck* check = nullptr;
+  xmlParserCtxtPtr parser = nullptr;
+  SvgError error = SvgError::kNone;
+  std::string what;
+  std::string first_error;  // libxml2's first error message
+  int first_error_line = 0;
+  std::vector<Node> nodes;
+  std::vector<int> open;  // the open elements, outermost first
+  std::unordered_map<std::string, int> ids;
+  size_t path_commands = 0;
+  bool saw_root = false;
+
+  int Line() const { return parser != nullptr ? xmlSAX2GetLineNumber(parser) : 0; }
+  void Fail(SvgError code, const std::string& message) {
+    if (error != SvgError::kNone) return;
+    error = code;
+    what = message;
+    xmlStopParser(parser);
+  }
+};
+
+CheckState* StateOf(void* ctx) { return static_cast<CheckState*>(ctx); }
+
+void OnEntityDecl(void* ctx, const xmlChar*, int type, const xmlChar*, const xmlChar*, xmlChar*) {
+  CheckState* st = StateOf(ctx);
+  if (type == XML_EXTERNAL_GENERAL_PARSED_ENTITY || type == XML_EXTERNAL_GENERAL_UNPARSED_ENTITY ||
+      type == XML_EXTERNAL_PARAMETER_ENTITY) {
+    st->Fail(SvgError::kExternalEntity, "line " + std::to_string(st->Line()) +
+                                            ": the DOCTYPE declares an external entity; external entities are "
+                                            "never read");
+  } else {
+    st->Fail(SvgError::kEntityDeclaration, "line " + std::to_string(st->Line()) +
+                                               ": the DOCTYPE declares entities; entity declarations are not "
+                                               "accepted");
+  }
+}
+
+void OnReference(void* ctx, const xmlChar* name) {
+  CheckState* st = StateOf(ctx);
+  st->Fail(SvgError::kEntityDeclaration, "line " + std::to_string(st->Line()) + ": entity reference &" + Str(name) +
+                                             "; entities are not expanded");
+}
+
+xmlEntityPtr OnGetEntity(void* ctx, const xmlChar* name) {
+  OnReference(ctx, name);
+  return nullptr;
+}
+
+void OnError(void* ctx, xmlErrorPtr e) {
+  CheckState* st = StateOf(ctx);
+  if (e == nullptr || e->level < XML_ERR_ERROR || !st->first_error.empty()) return;
+  st->first_error = e->message != nullptr ? e->message : "error";
+  while (!st->first_error.empty() && (st->first_error.back() == '\n' || st->first_error.back() == ' ')) {
+    st->first_error.pop_back();
+  }
+  st->first_error_line = e->line;
+}
+
+void OnStartElement(void* ctx, const xmlChar* localname, const xmlChar*, const xmlChar* uri, int, const xmlChar**,
+                    int nb_attributes, int, const xmlChar** attributes) {
+  CheckState* st = StateOf(ctx);
+  if (st->error != SvgError::kNone) return;
+  const SvgLimits& limits = *st->limits;
+  const int line = st->Line();
+  const std::string ns = Str(uri), local = Str(localname);
+  if (ns == kXIncludeNamespace || ns == kXIncludeNamespace2003) {
+    return st->Fail(SvgError::kXInclude,
+                    "line " + std::to_string(line) + ": <" + local + "> is XInclude; XInclude is not processed");
+  }
+  const int depth = int(st->open.size()) + 1;
+  if (depth > limits.max_depth) {
+    return st->Fail(SvgError::kTooDeep, "line " + std::to_string(line) + ": elements nested " +
+                                            std::to_string(depth) + " deep exceed the limit of " +
+                                            std::to_string(limits.max_depth) + " (max_depth)");
+  }
+  if (st->nodes.size() + 1 > limits.max_elements) {
+    return st->Fail(SvgError::kTooManyElements,
+                    "more than " + std::to_string(limits.max_elements) + " elements (max_elements)");
+  }
+  if (!st->saw_root) {
+    st->saw_root = true;
+    if (local != "svg") return st->Fail(SvgError::kMalformedXml, "the root element is <" + local + ">, not <svg>");
+  }
+  Node node;
+  node.parent = st->open.empty() ? -1 : st->open.back();
+  const int index = int(st->nodes.size());
+  if (IsApproximated(local)) st->check->unsupported.push_back(local + " (line " + std::to_string(line) + ")");
+  size_t commands = 0;
+  for (int a = 0; a < nb_attributes; ++a) {
+    const xmlChar** at = attributes + 5 * a;  // localname, prefix, URI, value, end
+    const std::string attr = Str(at[0]);
+    const std::string value(reinterpret_cast<const char*>(at[3]), size_t(at[4] - at[3]));
+    std::string bad;
+    if (attr == "id") {
+      st->ids.emplace(value, index);
+    } else if (attr == "href") {
+      if (!value.empty() && value[0] == '#') {
+        if (local == "use") node.use_target = value.substr(1);
+      } else if (value.rfind("data:", 0) != 0) {
+        st->check->warnings.push_back("line " + std::to_string(line) + ": <" + local + "> references \"" +
+                                      value.substr(0, 80) + "\", which is not loaded (no external files)");
+      }
+    } else if (attr == "d" && local == "path") {
+      if (!CountPathCommands(value, &commands, &bad, limits.max_path_commands)) {
+        return st->Fail(SvgError::kBadPathData, "line " + std::to_string(line) + ": bad path data: " + bad);
+      }
+    } else if (attr == "points" && (local == "polyline" || local == "polygon")) {
+      if (!CountPolylinePoints(value, &commands, &bad)) {
+        return st->Fail(SvgError::kBadPathData, "line " + std::to_string(line) + ": bad points: " + bad);
+      }
+    }
+  }
+  st->path_commands += commands;
+  if (st->path_commands > limits.max_path_commands) {
+    return st->Fail(SvgError::kTooManyPathCommands, "line " + std::to_string(line) + ": more than " +
+                                                        std::to_string(limits.max_path_commands) +
+                                                        " path commands (max_path_commands)");
+  }
+  st->nodes.push_back(std::move(node));
+  st->open.push_back(index);
+}
+
+void OnEndElement(void* ctx, const xmlChar*, const xmlChar*, const xmlChar*) {
+  CheckState* st = StateOf(ctx);
+  if (!st->open.empty()) st->open.pop_back();
+}
+
+}  // namespace
+
+Status CheckSvg(const std::string& bytes, const std::string& name, const SvgLimits& limits,
+                SvgCheck* check, SvgError* error) {
+  auto fail = [&](SvgError code, const std::string& what) { return SvgFailure(code, name, what, error); };
+  if (bytes.size() > limits.max_bytes) {
+    return fail(SvgError::kFileTooLarge, std::to_string(bytes.size()) + " bytes exceed the limit of " +
+                                             std::to_string(limits.max_bytes) + " bytes (max_bytes)");
+  }
+  if (bytes.empty()) return fail(SvgError::kMalformedXml, "the file is empty");
+  if (bytes.size() > size_t(std::numeric_limits<int>::max())) {
+    return fail(SvgError::kFileTooLarge, "the file is over 2 GB");
+  }
+  xmlInitParser();
+  // A pull parse over the whole buffer (linear in its size, unlike the push parser on
+  // long attributes). XML_PARSE_HUGE lifts libxml2's 10 MB cap on one attribute (a long
+  // path's d): the document is already within max_bytes and every other limit is ours.
+  xmlParserCtxtPtr parser = xmlCreateMemoryParserCtxt(bytes.data(), int(bytes.size()));
+  if (parser == nullptr) return fail(SvgError::kMalformedXml, "libxml2 cannot read the document");
+  xmlSAXHandler sax{};
+  sax.initialized = XML_SAX2_MAGIC;
+  sax.startElementNs = OnStartElement;
+  sax.endElementNs = OnEndElement;
+  sax.entityDecl = OnEntityDecl;
+  sax.reference = OnReference;
+  sax.getEntity = OnGetEntity;
+  sax.serror = OnError;
+  xmlSAXHandlerPtr original = parser->sax;
+  parser->sax = &sax;
+  CheckState st;
+  st.name = &name;
+  st.limits = &limits;
+  st.check = check;
+  st.parser = parser;
+  parser->userData = &st;
+  xmlCtxtUseOptions(parser, XML_PARSE_NONET | XML_PARSE_NOWARNING | XML_PARSE_NOERROR | XML_PARSE_HUGE);
+  parser->sax = &sax;  // xmlCtxtUseOptions keeps it; set again for clarity
+  xmlParseDocument(parser);
+  const bool well_formed = parser->wellFormed != 0;
+  parser->sax = original;
+  parser->userData = nullptr;
+  xmlFreeParserCtxt(parser);
+
+  if (st.error != SvgError::kNone) return fail(st.error, st.what);
+  if (!well_formed || !st.first_error.empty()) {
+    if (st.first_error.empty()) st.first_error = "the XML is not well-formed";
+    return fail(SvgError::kMalformedXml, "line " + std::to_string(st.first_error_line) + ": " + st.first_error);
+  }
+  if (!st.saw_root) return fail(SvgError::kMalformedXml, "no <svg> element");
+  int cycle_node = -1;
+  const int64_t expanded = ExpandedSize(st.nodes, st.ids, limits.max_use_expansion, &cycle_node);
+  if (expanded < 0) {
+    return fail(SvgError::kUseCycle, "a <use> references itself (directly or through other elements)");
+  }
+  if (uint64_t(expanded) > limits.max_use_expansion) {
+    return fail(SvgError::kUseExpansion, "expanding <use> gives more than " +
+                                             std::to_string(limits.max_use_expansion) +
+                                             " elements (max_use_expansion)");
+  }
+  check->elements = st.nodes.size();
+  return Status::Ok();
+}
+
+}  // namespace sdvi

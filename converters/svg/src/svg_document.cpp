@@ -1,0 +1,159 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Loading (check + librsvg), the output size and the reference raster.
+#include <librsvg/rsvg.h>
+
+#include <cairo.h>
+
+#include <cmath>
+#include <fstream>
+#include <memory>
+#include <string>
+
+#include "svg_internal.h"
+#include "svg_rsvg.h"
+
+namespace sdvi {
+
+StatusOr<RsvgHandlePtr> OpenRsvg(const SvgDocument& document, SvgError* error) {
+  GError* gerror = nullptr;
+  // From memory, no base file: librsvg cannot resolve any external reference.
+  RsvgHandle* handle = rsvg_handle_new_from_data(reinterpret_cast<const guint8*>(document.bytes.data()),
+                                                 gsize(document.bytes.size()), &gerror);
+  if (handle == nullptr) {
+    std::string what = gerror != nullptr ? gerror->message : "unknown error";
+    if (gerror != nullptr) g_error_free(gerror);
+    return SvgFailure(SvgError::kRenderFailed, document.name, "librsvg cannot load the document: " + what, error);
+  }
+  rsvg_handle_set_dpi(handle, 96.0);
+  return RsvgHandlePtr(handle);
+}
+
+Status RenderWithRsvg(const SvgDocument& document, cairo_t* cr, int width, int height, SvgError* error) {
+  SDVI_ASSIGN_OR_RETURN(RsvgHandlePtr handle, OpenRsvg(document, error));
+  RsvgRectangle viewport{0, 0, double(width), double(height)};
+  GError* gerror = nullptr;
+  if (!rsvg_handle_render_document(handle.get(), cr, &viewport, &gerror)) {
+    std::string what = gerror != nullptr ? gerror->message : "unknown error";
+    if (gerror != nullptr) g_error_free(gerror);
+    return SvgFailure(SvgError::kRenderFailed, document.name, "librsvg cannot render the document: " + what, error);
+  }
+  return Status::Ok();
+}
+
+StatusOr<SvgDocument> LoadSvg(std::string bytes, const std::string& name, const SvgLimits& limits,
+                              SvgError* error) {
+  SvgCheck check;
+  SDVI_RETURN_IF_ERROR(CheckSvg(bytes, name, limits, &check, error));
+  SvgDocument document;
+  document.name = name;
+  document.bytes = std::move(bytes);
+  document.elements = check.elements;
+  document.unsupported = std::move(check.unsupported);
+  document.warnings = std::move(check.warnings);
+  SDVI_ASSIGN_OR_RETURN(RsvgHandlePtr handle, OpenRsvg(document, error));
+  gdouble w = 0, h = 0;
+  if (rsvg_handle_get_intrinsic_size_in_pixels(handle.get(), &w, &h)) {
+    document.width = w;
+    document.height = h;
+  } else {
+    gboolean has_width = FALSE, has_height = FALSE, has_viewbox = FALSE;
+    RsvgLength lw, lh;
+    RsvgRectangle viewbox{};
+    rsvg_handle_get_intrinsic_dimensions(handle.get(), &has_width, &lw, &has_height, &lh, &has_viewbox, &viewbox);
+    if (has_viewbox) {
+      document.width = viewbox.width;
+      document.height = viewbox.height;
+    }
+  }
+  if (!std::isfinite(document.width) || !std::isfinite(document.height) || document.width < 0 ||
+      document.height < 0) {
+    document.width = document.height = 0;
+  }
+  return document;
+}
+
+StatusOr<SvgDocument> LoadSvgFile(const std::string& path, const SvgLimits& limits, SvgError* error) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return Status(StatusCode::kNotFound, path + ": cannot open the file");
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  if (size < 0) return Status(StatusCode::kIoError, path + ": cannot read the file");
+  if (uint64_t(size) > limits.max_bytes) {
+    return SvgFailure(SvgError::kFileTooLarge, path,
+                      std::to_string(size) + " bytes exceed the limit of " + std::to_string(limits.max_bytes) +
+                          " bytes (max_bytes)",
+                      error);
+  }
+  in.seekg(0, std::ios::beg);
+  std::string bytes(size_t(size), '\0');
+  if (!in.read(bytes.data(), size)) return Status(StatusCode::kIoError, path + ": cannot read the file");
+  return LoadSvg(std::move(bytes), path, limits, error);
+}
+
+StatusOr<SvgSize> ChooseSvgSize(const SvgDocument& document, int width, double scale, const SvgLimits& limits,
+                                SvgError* error) {
+  if (width < 0 || !(scale >= 0) || !std::isfinite(scale)) {
+    return Status(StatusCode::kInvalidArgument, document.name + ": width and scale must be >= 0");
+  }
+  const bool has_size = document.width > 0 && document.height > 0;
+  if (!has_size) {
+    return SvgFailure(SvgError::kNoSize, document.name,
+                      "the document has no width, height or viewBox; give the output width", error);
+  }
+  double w = document.width, h = document.height;
+  if (width > 0) {
+    h = h * double(width) / w;
+    w = width;
+  } else if (scale > 0) {
+    w *= scale;
+    h *= scale;
+  }
+  const double max_side = double(limits.max_dimension);
+  if (!(w <= max_side) || !(h <= max_side) || !(w * h <= double(limits.max_pixels))) {
+    return SvgFailure(SvgError::kSizeTooLarge, document.name,
+                      "output size " + std::to_string(w) + " x " + std::to_string(h) + " px exceeds the limit of " +
+                          std::to_string(limits.max_dimension) + " px a side / " + std::to_string(limits.max_pixels) +
+                          " pixels (max_dimension, max_pixels)",
+                      error);
+  }
+  SvgSize size;
+  size.width = std::max(1, int(std::lround(w)));
+  size.height = std::max(1, int(std::lround(h)));
+  return size;
+}
+
+StatusOr<Raster> RenderSvg(const SvgDocument& document, int width, int height) {
+  if (width <= 0 || height <= 0) {
+    return Status(StatusCode::kInvalidArgument, document.name + ": render size must be positive");
+  }
+  cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, width, height);
+  std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> surface_owner(surface, cairo_surface_destroy);
+  if (cairo_surface_status(surface) != CAIRO_STATUS_SUCCESS) {
+    return Status(StatusCode::kLimitExceeded, document.name + ": cannot allocate a " + std::to_string(width) + " x " +
+                                                  std::to_string(height) + " raster");
+  }
+  cairo_t* cr = cairo_create(surface);
+  Status rendered = RenderWithRsvg(document, cr, width, height, nullptr);
+  cairo_destroy(cr);
+  SDVI_RETURN_IF_ERROR(rendered);
+  cairo_surface_flush(surface);
+  const unsigned char* data = cairo_image_surface_get_data(surface);
+  const int stride = cairo_image_surface_get_stride(surface);
+  Raster raster(width, height, 4);
+  for (int y = 0; y < height; ++y) {
+    const uint32_t* row = reinterpret_cast<const uint32_t*>(data + size_t(y) * stride);
+    for (int x = 0; x < width; ++x) {
+      const uint32_t p = row[x];  // premultiplied ARGB, native endian
+      const float a = float((p >> 24) & 255u);
+      const float r = float((p >> 16) & 255u), g = float((p >> 8) & 255u), b = float(p & 255u);
+      const float scale = a > 0 ? 255.f / a : 0.f;
+      raster.at(x, y, 0) = std::min(255.f, r * scale);
+      raster.at(x, y, 1) = std::min(255.f, g * scale);
+      raster.at(x, y, 2) = std::min(255.f, b * scale);
+      raster.at(x, y, 3) = a / 255.f;
+    }
+  }
+  return raster;
+}
+
+}  // namespace sdvi

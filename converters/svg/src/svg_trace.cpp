@@ -1,0 +1,251 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// TraceSvgGeometry: librsvg renders into a cairo script surface (cairo 1.16, ASCII mode);
+// the script it writes lists every path in device space followed by the operator that
+// used it. This file reads back the few operators that carry geometry:
+//   n                      new path          x y m / x y l / x1 y1 x2 y2 x3 y3 c / h
+//   x y w h rectangle      a closed box      fill[+] stroke[+] clip[+]   the painting
+//   w set-line-width, [a b c d e f] | identity set-matrix, sx sy scale, [...] transform:
+//                          the stroke width in device pixels = width x sqrt(|det CTM|)
+//   context ... pop, save ... restore: graphics-state scopes.
+// Everything else (sources, patterns, image data, dictionaries) is skipped token by token:
+// strings (...) with escapes, base85 data <~ ... ~> and <| ... ~>, hex <...>, comments.
+#include <cairo-script.h>
+#include <cairo.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "svg_internal.h"
+#include "svg_rsvg.h"
+
+namespace sdvi {
+namespace {
+
+cairo_status_t AppendScript(void* closure, const unsigned char* data, unsigned int length) {
+  static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
+  return CAIRO_STATUS_SUCCESS;
+}
+
+struct GraphicsState {
+  double line_width = 2.0;  // cairo's default
+  double det = 1.0;         // |det| of the CTM
+};
+
+class ScriptReader {
+ public:
+  explicit ScriptReader(const std::string& text) : s_(text) {}
+
+  std::vector<SvgShape> Read() {
+    std::string token;
+    while (Next(&token)) Handle(token);
+    return std::move(shapes_);
+  }
+
+ private:
+  bool IsSpace(char c) const { return c == ' ' || c == '\n' || c == '\r' || c == '\t' || c == '\f'; }
+
+  void SkipUntil(const char* end) {
+    const size_t k = s_.find(end, i_);
+    i_ = k == std::string::npos ? s_.size() : k + std::string(end).size();
+  }
+
+  // The next token that matters, or false at the end. Data and strings are skipped here.
+  bool Next(std::string* token) {
+    for (;;) {
+      while (i_ < s_.size() && IsSpace(s_[i_])) ++i_;
+      if (i_ >= s_.size()) return false;
+      const char c = s_[i_];
+      if (c == '%') {
+        SkipUntil("\n");
+        continue;
+      }
+      if (c == '(') {
+        int level = 0;
+        while (i_ < s_.size()) {
+          const char d = s_[i_++];
+          if (d == '\\') {
+            ++i_;
+          } else if (d == '(') {
+            ++level;
+          } else if (d == ')' && --level == 0) {
+            break;
+          }
+        }
+        *token = "(string)";
+        return true;
+      }
+      if (c == '<') {
+        if (i_ + 1 < s_.size() && (s_[i_ + 1] == '~' || s_[i_ + 1] == '|')) {
+          SkipUntil("~>");
+          *token = "(data)";
+          return true;
+        }
+        if (i_ + 1 < s_.size() && s_[i_ + 1] == '<') {
+          i_ += 2;
+          *token = "<<";
+          return true;
+        }
+        SkipUntil(">");
+        *token = "(data)";
+        return true;
+      }
+      if (c == '[' || c == ']' || c == '{' || c == '}') {
+        ++i_;
+        *token = std::string(1, c);
+        return true;
+      }
+      const size_t start = i_;
+      while (i_ < s_.size() && !IsSpace(s_[i_]) && s_[i_] != '[' && s_[i_] != ']' && s_[i_] != '{' &&
+             s_[i_] != '}' && s_[i_] != '(' && s_[i_] != '<' && s_[i_] != '%') {
+        ++i_;
+      }
+      if (i_ == start) {  // a lone '>' or similar
+        ++i_;
+        continue;
+      }
+      *token = s_.substr(start, i_ - start);
+      return true;
+    }
+  }
+
+  static bool ParseNumber(const std::string& t, double* v) {
+    const char c = t[0];
+    if (!((c >= '0' && c <= '9') || c == '-' || c == '+' || c == '.')) return false;
+    char* end = nullptr;
+    *v = std::strtod(t.c_str(), &end);
+    return end == t.c_str() + t.size() && std::isfinite(*v);
+  }
+
+  bool Take(size_t n, double* out) {
+    if (numbers_.size() < n) return false;
+    for (size_t k = 0; k < n; ++k) out[k] = numbers_[numbers_.size() - n + k];
+    return true;
+  }
+
+  SvgOutline* Current() { return path_.empty() ? nullptr : &path_.back(); }
+
+  void LineTo(double x, double y) {
+    SvgOutline* o = Current();
+    if (o == nullptr) return;
+    const Point2 a = o->points.back();
+    o->points.push_back({a.x + (x - a.x) / 3, a.y + (y - a.y) / 3});
+    o->points.push_back({a.x + 2 * (x - a.x) / 3, a.y + 2 * (y - a.y) / 3});
+    o->points.push_back({x, y});
+  }
+
+  void Paint(SvgPaint paint) {
+    SvgShape shape;
+    shape.paint = paint;
+    const GraphicsState& g = states_.back();
+    shape.stroke_width = paint == SvgPaint::kStroke ? g.line_width * std::sqrt(g.det) : 0;
+    for (const SvgOutline& o : path_) {
+      if (o.points.size() >= 4) shape.outlines.push_back(o);
+    }
+    if (!shape.outlines.empty()) shapes_.push_back(std::move(shape));
+  }
+
+  void Handle(const std::string& t) {
+    double v = 0;
+    if (ParseNumber(t, &v)) {
+      (in_array_ ? array_ : numbers_).push_back(v);
+      return;
+    }
+    if (t == "[") {
+      in_array_ = true;
+      array_.clear();
+      return;
+    }
+    if (t == "]") {
+      in_array_ = false;
+      have_array_ = true;
+      return;
+    }
+    if (in_array_) return;  // names inside arrays
+    double a[6];
+    GraphicsState& g = states_.back();
+    if (t == "n") {
+      path_.clear();
+    } else if (t == "m" && Take(2, a)) {
+      path_.push_back(SvgOutline{{{a[0], a[1]}}, false});
+    } else if (t == "l" && Take(2, a)) {
+      LineTo(a[0], a[1]);
+    } else if (t == "c" && Take(6, a)) {
+      if (SvgOutline* o = Current()) {
+        o->points.push_back({a[0], a[1]});
+        o->points.push_back({a[2], a[3]});
+        o->points.push_back({a[4], a[5]});
+      }
+    } else if (t == "h") {
+      if (SvgOutline* o = Current()) {
+        const Point2 first = o->points.front(), last = o->points.back();
+        if (first.x != last.x || first.y != last.y) LineTo(first.x, first.y);
+        o->closed = true;
+      }
+    } else if (t == "rectangle" && Take(4, a)) {
+      path_.push_back(SvgOutline{{{a[0], a[1]}}, false});
+      LineTo(a[0] + a[2], a[1]);
+      LineTo(a[0] + a[2], a[1] + a[3]);
+      LineTo(a[0], a[1] + a[3]);
+      LineTo(a[0], a[1]);
+      path_.back().closed = true;
+    } else if (t == "fill" || t == "fill+") {
+      Paint(SvgPaint::kFill);
+    } else if (t == "stroke" || t == "stroke+") {
+      Paint(SvgPaint::kStroke);
+    } else if (t == "clip" || t == "clip+") {
+      Paint(SvgPaint::kClip);
+    } else if (t == "set-line-width" && Take(1, a)) {
+      g.line_width = std::abs(a[0]);
+    } else if (t == "identity") {
+      array_ = {1, 0, 0, 1, 0, 0};
+      have_array_ = true;
+      numbers_.clear();
+      return;  // set-matrix follows
+    } else if (t == "set-matrix" && have_array_ && array_.size() == 6) {
+      g.det = std::abs(array_[0] * array_[3] - array_[1] * array_[2]);
+    } else if (t == "transform" && have_array_ && array_.size() == 6) {
+      g.det *= std::abs(array_[0] * array_[3] - array_[1] * array_[2]);
+    } else if (t == "scale" && Take(2, a)) {
+      g.det *= std::abs(a[0] * a[1]);
+    } else if (t == "context" || t == "save") {
+      states_.push_back(t == "save" ? g : GraphicsState());
+    } else if ((t == "pop" || t == "restore") && states_.size() > 1) {
+      states_.pop_back();
+    }
+    numbers_.clear();
+    have_array_ = false;
+  }
+
+  const std::string& s_;
+  size_t i_ = 0;
+  std::vector<double> numbers_, array_;
+  bool in_array_ = false, have_array_ = false;
+  std::vector<SvgOutline> path_;
+  std::vector<GraphicsState> states_{GraphicsState()};
+  std::vector<SvgShape> shapes_;
+};
+
+}  // namespace
+
+StatusOr<std::vector<SvgShape>> TraceSvgGeometry(const SvgDocument& document, int width, int height) {
+  if (width <= 0 || height <= 0) {
+    return Status(StatusCode::kInvalidArgument, document.name + ": trace size must be positive");
+  }
+  std::string script;
+  cairo_device_t* device = cairo_script_create_for_stream(AppendScript, &script);
+  cairo_script_set_mode(device, CAIRO_SCRIPT_MODE_ASCII);
+  cairo_surface_t* surface = cairo_script_surface_create(device, CAIRO_CONTENT_COLOR_ALPHA, width, height);
+  cairo_t* cr = cairo_create(surface);
+  Status rendered = RenderWithRsvg(document, cr, width, height, nullptr);
+  cairo_destroy(cr);
+  cairo_surface_finish(surface);
+  cairo_surface_destroy(surface);
+  cairo_device_finish(device);
+  cairo_device_destroy(device);
+  SDVI_RETURN_IF_ERROR(rendered);
+  return ScriptReader(script).Read();
+}
+
+}  // namespace sdvi

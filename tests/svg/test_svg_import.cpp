@@ -1,0 +1,201 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Geometry capture (librsvg -> cairo script -> device-space outlines), the reference
+// raster and the artwork mode, on small drawings written here.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "sdvi/bspline.h"
+#include "sdvi/svg.h"
+
+namespace {
+
+sdvi::SvgDocument Doc(const std::string& bytes) {
+  auto document = sdvi::LoadSvg(bytes, "test.svg", {});
+  INFO(document.status().ToString());
+  REQUIRE(document.ok());
+  return *document;
+}
+
+double DistanceToRectangle(sdvi::Point2 p, double x0, double y0, double x1, double y1) {
+  // Distance from p to the boundary of the axis-aligned rectangle.
+  const double inside_dx = std::min(p.x - x0, x1 - p.x), inside_dy = std::min(p.y - y0, y1 - p.y);
+  if (inside_dx >= 0 && inside_dy >= 0) return std::min(inside_dx, inside_dy);
+  const double dx = std::max({x0 - p.x, 0.0, p.x - x1}), dy = std::max({y0 - p.y, 0.0, p.y - y1});
+  return std::hypot(dx, dy);
+}
+
+}  // namespace
+
+TEST_CASE("svg geometry: viewBox, transforms and use give device-space outlines", "[svg]") {
+  // viewBox 200x100 shown at 100x50: user units x 0.5.
+  const sdvi::SvgDocument doc = Doc(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"100\" height=\"50\" viewBox=\"0 0 200 100\">"
+      "<defs><rect id=\"r\" x=\"20\" y=\"10\" width=\"40\" height=\"30\"/></defs>"
+      "<g transform=\"translate(10,0)\"><use href=\"#r\" x=\"100\"/></g></svg>");
+  CHECK(doc.width == 100);
+  CHECK(doc.height == 50);
+  auto shapes = sdvi::TraceSvgGeometry(doc, 100, 50);
+  REQUIRE(shapes.ok());
+  REQUIRE(shapes->size() == 1);
+  const sdvi::SvgShape& s = (*shapes)[0];
+  CHECK(s.paint == sdvi::SvgPaint::kFill);
+  REQUIRE(s.outlines.size() == 1);
+  CHECK(s.outlines[0].closed);
+  double min_x = 1e9, min_y = 1e9, max_x = -1e9, max_y = -1e9;
+  for (const sdvi::Point2& p : s.outlines[0].points) {
+    min_x = std::min(min_x, p.x), max_x = std::max(max_x, p.x);
+    min_y = std::min(min_y, p.y), max_y = std::max(max_y, p.y);
+  }
+  // (20 + 100 + 10) * 0.5 = 65 .. (60 + 110) * 0.5 = 85; 10 * 0.5 = 5 .. 40 * 0.5 = 20.
+  CHECK(min_x == Approx(65).margin(1e-4));
+  CHECK(max_x == Approx(85).margin(1e-4));
+  CHECK(min_y == Approx(5).margin(1e-4));
+  CHECK(max_y == Approx(20).margin(1e-4));
+}
+
+TEST_CASE("svg geometry: arcs and circles come out as cubics on the circle", "[svg]") {
+  const sdvi::SvgDocument doc = Doc(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"64\" height=\"64\">"
+      "<circle cx=\"32\" cy=\"30\" r=\"20\" fill=\"red\"/>"
+      "<path d=\"M 12 60 A 10 10 0 0 1 32 60\" fill=\"none\" stroke=\"blue\" stroke-width=\"4\" "
+      "transform=\"scale(1)\"/></svg>");
+  auto shapes = sdvi::TraceSvgGeometry(doc, 128, 128);  // rendered at twice the size
+  REQUIRE(shapes.ok());
+  REQUIRE(shapes->size() == 2);
+  const sdvi::SvgOutline& circle = (*shapes)[0].outlines.at(0);
+  CHECK(circle.closed);
+  REQUIRE(circle.points.size() >= 13);
+  for (size_t i = 0; i < circle.points.size(); i += 3) {  // segment end points lie on the circle
+    CHECK(std::hypot(circle.points[i].x - 64, circle.points[i].y - 60) == Approx(40).margin(1e-3));
+  }
+  const sdvi::SvgShape& arc = (*shapes)[1];
+  CHECK(arc.paint == sdvi::SvgPaint::kStroke);
+  CHECK(arc.stroke_width == Approx(8).margin(1e-6));  // 4 user units x 2
+  const sdvi::SvgOutline& a = arc.outlines.at(0);
+  CHECK_FALSE(a.closed);
+  CHECK(a.points.front().x == Approx(24).margin(1e-3));
+  CHECK(a.points.back().x == Approx(64).margin(1e-3));
+  for (size_t i = 0; i < a.points.size(); i += 3) {  // a half circle of radius 20 around (44, 120)
+    CHECK(std::hypot(a.points[i].x - 44, a.points[i].y - 120) == Approx(20).margin(1e-3));
+  }
+}
+
+TEST_CASE("svg raster: librsvg colours un-premultiplied, transparent background", "[svg]") {
+  const sdvi::SvgDocument doc = Doc(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"20\" height=\"10\">"
+      "<rect x=\"0\" y=\"0\" width=\"10\" height=\"10\" fill=\"#ff8000\"/>"
+      "<rect x=\"10\" y=\"0\" width=\"10\" height=\"10\" fill=\"#0000ff\" fill-opacity=\"0.5\"/></svg>");
+  auto raster = sdvi::RenderSvg(doc, 20, 10);
+  REQUIRE(raster.ok());
+  REQUIRE(raster->channels == 4);
+  CHECK(raster->at(3, 5, 0) == 255.f);
+  CHECK(raster->at(3, 5, 1) == Approx(128).margin(0.01));
+  CHECK(raster->at(3, 5, 2) == 0.f);
+  CHECK(raster->at(3, 5, 3) == 1.f);
+  CHECK(raster->at(15, 5, 2) == Approx(255).margin(1.5));
+  CHECK(raster->at(15, 5, 3) == Approx(0.5).margin(0.01));
+}
+
+TEST_CASE("svg artwork: features follow the visible outline only", "[svg]") {
+  // A white background, a red square, and a blue square covering its right part.
+  const sdvi::SvgDocument doc = Doc(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"96\" height=\"96\">"
+      "<rect width=\"96\" height=\"96\" fill=\"white\"/>"
+      "<rect x=\"16.3\" y=\"20.6\" width=\"40\" height=\"50\" fill=\"#d02020\"/>"
+      "<rect x=\"40.2\" y=\"10.4\" width=\"40\" height=\"40\" fill=\"#2040d0\"/></svg>");
+  auto reference = sdvi::RenderSvg(doc, 96, 96);
+  auto shapes = sdvi::TraceSvgGeometry(doc, 96, 96);
+  REQUIRE(reference.ok());
+  REQUIRE(shapes.ok());
+  sdvi::SvgArtworkOptions options;
+  const std::vector<sdvi::FeatureCurve> curves = sdvi::ArtworkFeatures(*shapes, *reference, options);
+  REQUIRE(!curves.empty());
+  for (const sdvi::FeatureCurve& c : curves) {
+    CHECK(c.sharpness == 1.0f);
+    CHECK_FALSE(c.boundary);
+    for (const sdvi::Point2& p : sdvi::SampleFeatureCurve(c, 8)) {
+      const double to_red = DistanceToRectangle(p, 16.3, 20.6, 56.3, 70.6);
+      const double to_blue = DistanceToRectangle(p, 40.2, 10.4, 80.2, 50.4);
+      CHECK(std::min(to_red, to_blue) < options.tolerance + 0.05);
+      // Nothing on the hidden part of the red square's outline (inside the blue one).
+      const bool hidden = p.x > 41.5 && p.x < 79 && p.y > 11.5 && p.y < 49;
+      CHECK_FALSE(hidden);
+    }
+  }
+  // The whole blue outline is one closed feature with four kinks.
+  const auto closed = std::count_if(curves.begin(), curves.end(), [](const auto& c) { return c.closed; });
+  CHECK(closed == 1);
+}
+
+TEST_CASE("svg artwork: an object drawing imports as an object image close to librsvg", "[svg]") {
+  const std::string bytes =
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"80\" height=\"64\" viewBox=\"0 0 40 32\">"
+      "<defs><linearGradient id=\"g\" x1=\"0\" x2=\"1\"><stop offset=\"0\" stop-color=\"#ffd040\"/>"
+      "<stop offset=\"1\" stop-color=\"#e06000\"/></linearGradient></defs>"
+      "<circle cx=\"20\" cy=\"16\" r=\"13\" fill=\"url(#g)\"/>"
+      "<path d=\"M 12 18 Q 20 26 28 18\" fill=\"none\" stroke=\"#402010\" stroke-width=\"2\"/>"
+      "<ellipse cx=\"15\" cy=\"12\" rx=\"2\" ry=\"3\" fill=\"#402010\"/></svg>";
+  const sdvi::SvgDocument doc = Doc(bytes);
+  sdvi::SvgArtworkOptions options;
+  options.vectorize.max_triangles = 1200;
+  auto a = sdvi::ImportSvgArtwork(doc, options);
+  INFO(a.status().ToString());
+  REQUIRE(a.ok());
+  CHECK(a->reference.width == 80);
+  CHECK(a->reference.height == 64);
+  CHECK(a->outline_features >= 3);
+  CHECK_FALSE(a->approximate);
+  CHECK(a->vectorized.report.triangles <= 1200);
+  CHECK(a->vectorized.report.psnr > 30.0);
+  // Outside the disc the image has no domain: an object image.
+  bool has_hole = false;
+  for (int y = 0; y < 64 && !has_hole; ++y) has_hole = a->vectorized.reconstruction.at(0, y, 3) < 0.5f;
+  CHECK(has_hole);
+  // Deterministic.
+  auto b = sdvi::ImportSvgArtwork(doc, options);
+  REQUIRE(b.ok());
+  REQUIRE(a->vectorized.image.vertices.size() == b->vectorized.image.vertices.size());
+  for (size_t i = 0; i < a->vectorized.image.vertices.size(); ++i) {
+    const auto& va = a->vectorized.image.vertices[i];
+    const auto& vb = b->vectorized.image.vertices[i];
+    CHECK((va.x == vb.x && va.y == vb.y && va.r == vb.r && va.g == vb.g && va.b == vb.b));
+  }
+}
+
+TEST_CASE("svg artwork: text, filters and external images are named in warnings", "[svg]") {
+  const sdvi::SvgDocument doc = Doc(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" xmlns:xlink=\"http://www.w3.org/1999/xlink\" width=\"48\" "
+      "height=\"48\">\n<rect width=\"48\" height=\"48\" fill=\"#fff\"/>\n"
+      "<filter id=\"f\"><feGaussianBlur stdDeviation=\"2\"/></filter>\n"
+      "<circle cx=\"24\" cy=\"24\" r=\"10\" fill=\"#080\" filter=\"url(#f)\"/>\n"
+      "<text x=\"4\" y=\"40\">Hi</text>\n<image xlink:href=\"/nonexistent/picture.png\" width=\"8\" "
+      "height=\"8\"/>\n</svg>");
+  CHECK(std::find(doc.unsupported.begin(), doc.unsupported.end(), "filter (line 3)") != doc.unsupported.end());
+  CHECK(std::find(doc.unsupported.begin(), doc.unsupported.end(), "text (line 5)") != doc.unsupported.end());
+  REQUIRE(doc.warnings.size() == 1);
+  CHECK(doc.warnings[0].find("/nonexistent/picture.png") != std::string::npos);
+  sdvi::SvgArtworkOptions options;
+  options.vectorize.max_triangles = 600;
+  auto result = sdvi::ImportSvgArtwork(doc, options);
+  INFO(result.status().ToString());
+  REQUIRE(result.ok());
+  CHECK(result->approximate);
+  bool named = false;
+  for (const std::string& w : result->warnings) named = named || w.find("filter (line 3)") != std::string::npos;
+  CHECK(named);
+}
+
+TEST_CASE("svg: a document without size needs an output width", "[svg]") {
+  sdvi::SvgError error = sdvi::SvgError::kNone;
+  const sdvi::SvgDocument doc = Doc("<svg xmlns=\"http://www.w3.org/2000/svg\"><rect width=\"5\" height=\"5\"/></svg>");
+  auto size = sdvi::ChooseSvgSize(doc, 0, 0, {}, &error);
+  if (doc.width > 0) {
+    SUCCEED("librsvg gives this document a default size");
+  } else {
+    REQUIRE_FALSE(size.ok());
+    CHECK(error == sdvi::SvgError::kNoSize);
+  }
+}
