@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Creating an image from coloured curves (paper section V; spec/CURVES.md section 1):
-// validate -> sample each Bezier path by arc length -> fit a cubic B-spline control polygon
-// -> feature pairs + CDT (BuildControlMesh) -> colours of the pair vertices from the side
-// colour stops -> harmonic interpolation of every other vertex colour.
+// validate -> sample each Bezier path by arc length -> clip it to the frame -> fit a cubic
+// B-spline control polygon -> the frame as boundary, feature pairs and CDT
+// (BuildControlMesh) -> colours of the pair vertices from the side colour stops ->
+// harmonic interpolation of every other vertex colour.
 #include "sdvi/create.h"
 
 #include <Eigen/Sparse>
@@ -12,7 +13,6 @@
 #include <cmath>
 #include <map>
 #include <string>
-#include <unordered_map>
 
 #include "sdvi/bspline.h"
 #include "sdvi/subdiv_rules.h"
@@ -117,8 +117,8 @@ Status ValidateDrawing(const CurveDrawing& d, const CreateOptions& o) {
                                                       " outside [0, 1]");
     SDVI_RETURN_IF_ERROR(ValidateStops(c.left, where, "left"));
     SDVI_RETURN_IF_ERROR(ValidateStops(c.right, where, "right"));
-    // The control polygon bounds the arc length from above; the chord of each segment
-    // from below (a curve whose control polygon is tiny has zero length for us).
+    // The control polygon's length bounds the arc length from above: shorter than
+    // kMinLength, the curve has zero length for us.
     if (polygon < kMinLength)
       return Status(StatusCode::kInvalidArgument, prefix + where + " has zero length");
     length += polygon;
@@ -164,6 +164,8 @@ bool Kinked(Point2 in, Point2 out, double corner_angle_deg) {
   return std::acos(c) * 180 / kPi > corner_angle_deg;
 }
 
+// The path as points kSampleSpacing apart (per segment, so every segment join is a
+// sample), with the joins that turn by more than corner_angle_deg as corners.
 SampledPath SamplePath(const ColoredCurve& curve, double corner_angle_deg) {
   std::vector<CubicBezier> segs = curve.segments;
   Point2 last_end = segs.back().end;
