@@ -122,3 +122,34 @@ TEST_CASE("EXR I/O reports bad input with specific codes", "[exr][errors]") {
   CHECK(SaveExr("/nonexistent-dir/x.exr", Raster(4, 4, 4)).code() != StatusCode::kOk);
   CHECK(ErrorChannel(Raster(4, 4, 3), Raster(5, 4, 3)).status().code() == StatusCode::kInvalidArgument);
 }
+
+TEST_CASE("EXR of a region keeps its data window inside the whole render's display window", "[exr]") {
+  Raster region(7, 5, 3);
+  for (size_t i = 0; i < region.data.size(); ++i) region.data[i] = float(i * 29 % 256);
+  ExrWriteOptions opts;
+  opts.data_x = 40, opts.data_y = -3;  // a region may start outside the image
+  opts.display_width = 120, opts.display_height = 90;
+  const std::string path = TempPath("region.exr");
+  REQUIRE(SaveExr(path, region, opts).ok());
+  auto back = LoadExr(path);
+  REQUIRE(back.ok());
+  CHECK(back->data_x == 40);
+  CHECK(back->data_y == -3);
+  CHECK(back->display_width == 120);
+  CHECK(back->display_height == 90);
+  CHECK_FALSE(back->has_alpha);  // RGB in, RGB out
+  REQUIRE(back->rgba.width == 7);
+  REQUIRE(back->rgba.height == 5);
+  for (int y = 0; y < 5; ++y)
+    for (int x = 0; x < 7; ++x)
+      for (int c = 0; c < 3; ++c)
+        CHECK(LinearToSrgb(back->rgba.at(x, y, c)) == Approx(region.at(x, y, c)).margin(1e-3));
+  // Without a window the data window is the display window at the origin.
+  REQUIRE(SaveExr(path, region).ok());
+  back = LoadExr(path);
+  REQUIRE(back.ok());
+  CHECK(back->data_x == 0);
+  CHECK(back->data_y == 0);
+  CHECK(back->display_width == 7);
+  std::filesystem::remove(path);
+}

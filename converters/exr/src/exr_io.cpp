@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <string>
@@ -65,6 +67,9 @@ Status SaveExr(const std::string& path, const Raster& raster, const ExrWriteOpti
     return Status(StatusCode::kInvalidArgument, path + ": raster has " + std::to_string(raster.channels) +
                                                     " channels and " + std::to_string(raster.data.size()) + " samples");
   const size_t n = size_t(raster.width) * raster.height;
+  if (options.display_width < 0 || options.display_height < 0 || std::abs(int64_t(options.data_x)) > (1 << 30) ||
+      std::abs(int64_t(options.data_y)) > (1 << 30))
+    return Status(StatusCode::kInvalidArgument, path + ": data window origin or display window out of range");
   if (options.error && options.error->size() != n)
     return Status(StatusCode::kInvalidArgument, path + ": error channel has " + std::to_string(options.error->size()) +
                                                     " values for " + std::to_string(n) + " pixels");
@@ -81,10 +86,16 @@ Status SaveExr(const std::string& path, const Raster& raster, const ExrWriteOpti
   const Imf::PixelType type = options.half ? Imf::HALF : Imf::FLOAT;
   return WriteViaTempFile(path, [&](const std::string& temp) -> Status {
     try {
-      Imf::Header header(raster.width, raster.height);
+      const Imath::Box2i data_window(Imath::V2i(options.data_x, options.data_y),
+                                     Imath::V2i(options.data_x + raster.width - 1, options.data_y + raster.height - 1));
+      const Imath::Box2i display_window(
+          Imath::V2i(0, 0), Imath::V2i((options.display_width > 0 ? options.display_width : raster.width) - 1,
+                                       (options.display_height > 0 ? options.display_height : raster.height) - 1));
+      Imf::Header header(display_window, data_window);
       header.compression() = Imf::ZIP_COMPRESSION;
       const char* names[4] = {"R", "G", "B", "A"};
-      for (const char* name : names) header.channels().insert(name, Imf::Channel(type));
+      const int channels = raster.has_alpha() ? 4 : 3;
+      for (int c = 0; c < channels; ++c) header.channels().insert(names[c], Imf::Channel(type));
       if (options.error) header.channels().insert("error", Imf::Channel(type));
       // OpenEXR does not convert on output: give it samples of the file's type.
       std::vector<half> rgba_half, error_half;
@@ -97,8 +108,12 @@ Status SaveExr(const std::string& path, const Raster& raster, const ExrWriteOpti
       char* error_base = !options.error ? nullptr
                          : options.half ? reinterpret_cast<char*>(error_half.data())
                                         : reinterpret_cast<char*>(const_cast<float*>(options.error->data()));
+      // Slices are addressed from the data window's origin.
+      const int64_t origin = int64_t(options.data_x) + int64_t(options.data_y) * raster.width;
+      rgba_base -= origin * int64_t(bytes * 4);
+      if (error_base) error_base -= origin * int64_t(bytes);
       Imf::FrameBuffer fb;
-      for (int c = 0; c < 4; ++c)
+      for (int c = 0; c < channels; ++c)
         fb.insert(names[c], Imf::Slice(type, rgba_base + bytes * c, bytes * 4, bytes * 4 * raster.width));
       if (options.error) fb.insert("error", Imf::Slice(type, error_base, bytes, bytes * raster.width));
       Imf::OutputFile file(temp.c_str(), header);  // destroyed (flushed) before the rename
@@ -124,6 +139,10 @@ StatusOr<ExrImage> LoadExr(const std::string& path) {
                                                     " pixels is over the limit of 2^28");
     ExrImage out;
     out.rgba = Raster(int(w), int(h), 4);
+    const Imath::Box2i display = file.header().displayWindow();
+    out.data_x = dw.min.x - display.min.x, out.data_y = dw.min.y - display.min.y;
+    out.display_width = display.max.x - display.min.x + 1, out.display_height = display.max.y - display.min.y + 1;
+    out.has_alpha = file.header().channels().findChannel("A") != nullptr;
     const bool has_error = file.header().channels().findChannel("error") != nullptr;
     if (has_error) out.error.assign(size_t(w) * h, 0.0f);
     // Slices are addressed from the data window's origin.
