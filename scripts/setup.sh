@@ -7,6 +7,9 @@ cd "$(dirname "$0")/.."
 PACKAGES=(build-essential cmake ninja-build pkg-config
   libflatbuffers-dev flatbuffers-compiler libdraco-dev libtinygltf-dev libopenexr-dev
   libopencv-dev libcgal-dev libeigen3-dev catch2 nlohmann-json3-dev)
+# Image input (converters/raster): OpenImageIO (EXIF orientation, GIF, EXR, HDR), Little CMS
+# (ICC -> sRGB); giflib and zlib build the raster-input tests' files.
+PACKAGES+=(libopenimageio-dev liblcms2-dev libgif-dev zlib1g-dev)
 # Tools used by tests and benchmarks: exrheader (openexr), cjpeg (libjpeg-turbo-progs),
 # cwebp (webp), clang for the fuzz target, OpenSubdiv as a benchmark peer, node/npm for
 # the glTF validator and the three.js viewer test, chromium for the viewer test.

@@ -34,8 +34,8 @@ TEST_CASE("PNG round trip keeps channels and 8-bit values", "[raster_io]") {
     auto out = LoadRaster(path);
     REQUIRE(out.ok());
     INFO("channels " << channels);
-    // OpenCV cannot write grey+alpha PNGs: they are written (and read back) as RGBA, R = G = B.
-    const int back_channels = channels == 2 ? 4 : channels;
+    // Every layout, grey+alpha included, is written and read back as it is.
+    const int back_channels = channels;
     REQUIRE(out->channels == back_channels);
     for (int y = 0; y < in.height; ++y)
       for (int x = 0; x < in.width; ++x)
