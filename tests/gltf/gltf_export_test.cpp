@@ -503,6 +503,42 @@ TEST_CASE("gltf WriteGltf writes atomically and leaves nothing behind on failure
     (void)entry;
     ++files;
   }
-  CHECK(files == 2);
+  CHECK(files == 3);  // out.glb, out.gltf and the out.bin beside it
+  fs::remove_all(dir);
+}
+
+TEST_CASE("gltf text file gets its buffer in a .bin beside it, or embedded with embed") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("sdvi_gltf_bin_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const Image image = sdvi::gltf_test::GradientWithCrease(32, 24, 2, 1);
+  auto glb = sdvi::EncodeGltf(image, Levels(1));
+  REQUIRE(glb.ok());
+  const std::vector<uint8_t> bin_chunk = ParseGlb(glb->bytes).bin;
+  const std::string gltf = (dir / "my scene.gltf").string();
+  auto text = sdvi::WriteGltf(gltf, image, Levels(1));
+  REQUIRE(text.ok());
+  CHECK(sdvi::GltfBinPath(gltf) == (dir / "my scene.bin").string());
+  const json doc = json::parse(text->bytes.begin(), text->bytes.end());
+  CHECK(doc["buffers"].size() == 1);
+  CHECK(doc["buffers"][0]["uri"] == "my%20scene.bin");
+  CHECK(doc["buffers"][0]["byteLength"] == bin_chunk.size());
+  auto bin = sdvi::ReadFileBytes((dir / "my scene.bin").string());
+  REQUIRE(bin.ok());
+  CHECK(*bin == bin_chunk);  // the same bytes a .glb carries in its BIN chunk
+  CHECK(text->bin == bin_chunk);
+  // --embed: one file, the buffer as a data: URI.
+  GltfExportOptions embed = Levels(1);
+  embed.embed = true;
+  const std::string single = (dir / "single.gltf").string();
+  auto embedded = sdvi::WriteGltf(single, image, embed);
+  REQUIRE(embedded.ok());
+  CHECK(embedded->bin.empty());
+  CHECK_FALSE(fs::exists(dir / "single.bin"));
+  const json doc2 = json::parse(embedded->bytes.begin(), embedded->bytes.end());
+  CHECK(std::string(doc2["buffers"][0]["uri"]).rfind("data:application/octet-stream;base64,", 0) == 0);
+  // A failed write of the .gltf leaves no .bin behind either.
+  CHECK_FALSE(sdvi::WriteGltf((dir / "missing" / "x.gltf").string(), image, Levels(1)).ok());
+  CHECK_FALSE(fs::exists(dir / "missing"));
   fs::remove_all(dir);
 }

@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 #include <map>
 #include <new>
@@ -14,6 +16,7 @@
 #include <utility>
 
 // tinygltf is a compiled library here: declarations only (no TINYGLTF_IMPLEMENTATION).
+#include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
 #include <draco/compression/decode.h>
@@ -392,6 +395,14 @@ StatusOr<GltfContainer> GltfContainerForPath(const std::string& path) {
 
 namespace {
 
+// The .gltf JSON text with buffer 0 given as uri and byte_length (key order kept).
+std::string PointBufferAtFile(const std::string& gltf, const std::string& uri, size_t byte_length) {
+  nlohmann::ordered_json doc = nlohmann::ordered_json::parse(gltf);
+  doc["buffers"][0]["byteLength"] = byte_length;
+  doc["buffers"][0]["uri"] = uri;
+  return doc.dump(2);
+}
+
 StatusOr<GltfExport> EncodeGltfOrThrow(const Image& image, const GltfExportOptions& options) {
   SDVI_RETURN_IF_ERROR(CheckOptions(options));
   if (image.triangles.empty() || image.vertices.empty()) {
@@ -504,10 +515,15 @@ StatusOr<GltfExport> EncodeGltfOrThrow(const Image& image, const GltfExportOptio
   std::ostringstream out(std::ios::binary);
   tinygltf::TinyGLTF writer;
   const bool binary = options.container == GltfContainer::kBinary;
+  // tinygltf's stream writer embeds every buffer of a .gltf: for a .bin beside it, take
+  // the data out first and point the buffer at the file afterwards.
+  const bool external = !binary && !options.embed && !options.bin_uri.empty();
+  if (external) result.bin = std::move(model.buffers[0].data);
   if (!writer.WriteGltfSceneToStream(&model, out, /*prettyPrint=*/!binary, binary)) {
     return Status(StatusCode::kEncodeFailed, "glTF export: tinygltf could not serialize the model");
   }
-  const std::string bytes = std::move(out).str();  // C++20: moves the stream's buffer out
+  std::string bytes = std::move(out).str();  // C++20: moves the stream's buffer out
+  if (external) bytes = PointBufferAtFile(bytes, options.bin_uri, result.bin.size());
   result.bytes.assign(bytes.begin(), bytes.end());
   return result;
 }
@@ -525,10 +541,42 @@ StatusOr<GltfExport> EncodeGltf(const Image& image, const GltfExportOptions& opt
   }
 }
 
+std::string GltfBinPath(const std::string& gltf_path) {
+  return std::filesystem::path(gltf_path).replace_extension(".bin").string();
+}
+
+std::string GltfBinUri(const std::string& gltf_path) {
+  const std::string name = std::filesystem::path(GltfBinPath(gltf_path)).filename().string();
+  std::string uri;
+  for (unsigned char c : name) {
+    if (std::isalnum(c) || c == '-' || c == '.' || c == '_' || c == '~') {
+      uri += char(c);
+    } else {
+      static const char kHex[] = "0123456789ABCDEF";
+      uri += '%';
+      uri += kHex[c >> 4];
+      uri += kHex[c & 15];
+    }
+  }
+  return uri;
+}
+
 StatusOr<GltfExport> WriteGltf(const std::string& path, const Image& image,
                                GltfExportOptions options) {
   SDVI_ASSIGN_OR_RETURN(options.container, GltfContainerForPath(path));
+  const bool external = options.container == GltfContainer::kText && !options.embed;
+  options.bin_uri = external ? GltfBinUri(path) : std::string();
   SDVI_ASSIGN_OR_RETURN(GltfExport result, EncodeGltf(image, options));
+  if (external) {
+    const std::string bin_path = GltfBinPath(path);
+    SDVI_RETURN_IF_ERROR(WriteFileAtomic(bin_path, result.bin));
+    if (Status written = WriteFileAtomic(path, result.bytes); !written.ok()) {
+      std::error_code ignored;
+      std::filesystem::remove(bin_path, ignored);
+      return written;
+    }
+    return result;
+  }
   SDVI_RETURN_IF_ERROR(WriteFileAtomic(path, result.bytes));
   return result;
 }

@@ -1,6 +1,6 @@
 // glTF 2.0 export of an sdvi image for viewers (spec/GLTF.md has the full mapping).
 //
-// The limit surface at level r (DESIGN.md sections 3-4) becomes one indexed triangle mesh:
+// The limit surface at level r (spec/SUBDIVISION.md) becomes one indexed triangle mesh:
 //   POSITION  (x, H - y, 0): 1 glTF unit = 1 source pixel, origin at the image's
 //             bottom-left corner, +X right, +Y up; the image is upright seen from +Z and
 //             every triangle is counter-clockwise seen from +Z.
@@ -27,7 +27,8 @@ namespace sdvi {
 
 enum class GltfContainer {
   kBinary,  // .glb: JSON chunk + one BIN chunk
-  kText,    // .gltf: JSON with the buffer embedded as a base64 data: URI
+  kText,    // .gltf: JSON; the buffer in a .bin file beside it (bin_uri), or embedded as a
+            // base64 data: URI (embed, or no bin_uri)
 };
 
 struct GltfExportOptions {
@@ -39,6 +40,9 @@ struct GltfExportOptions {
   bool control_mesh = false; // add the control mesh node (triangles + crease LINES)
   GltfContainer container = GltfContainer::kBinary;
   std::string copyright;     // asset.copyright; empty = metadata "copyright", else "unspecified"
+  bool embed = false;        // .gltf: the buffer as a base64 data: URI, not a .bin file
+  std::string bin_uri;       // .gltf without embed: the buffer's URI (WriteGltf sets it to
+                             // the output's name with .bin, percent-encoded)
 };
 
 // The largest level accepted, and the fine-triangle budget of an explicit level.
@@ -48,6 +52,7 @@ inline constexpr uint64_t kMaxGltfFineTriangles = uint64_t(1) << 25;
 // What an export produced.
 struct GltfExport {
   std::vector<uint8_t> bytes;     // the whole .glb or .gltf file
+  std::vector<uint8_t> bin;       // the .bin a .gltf refers to (empty when embedded or .glb)
   int levels = 0;                 // the level r used
   uint32_t vertices = 0;          // surface vertices (after Draco decoding when compressed)
   uint32_t triangles = 0;         // surface triangles
@@ -70,8 +75,16 @@ StatusOr<GltfExport> EncodeGltf(const Image& image, const GltfExportOptions& opt
 // The container a path asks for: ".glb" -> kBinary, ".gltf" -> kText, else kInvalidArgument.
 StatusOr<GltfContainer> GltfContainerForPath(const std::string& path);
 
+// The name of the .bin beside a .gltf: path's file name with its extension replaced by
+// .bin ("scene.gltf" -> "scene.bin"), and that name as a relative URI (RFC 3986: bytes
+// other than A-Z a-z 0-9 - . _ ~ percent-encoded).
+std::string GltfBinPath(const std::string& gltf_path);
+std::string GltfBinUri(const std::string& gltf_path);
+
 // Encodes image (container from path's extension, overriding options.container) and
-// writes it atomically to path; nothing is left behind on failure.
+// writes it atomically to path; a .gltf without options.embed gets its buffer in
+// GltfBinPath(path), written first (a .gltf never refers to a missing .bin); nothing is
+// left behind on failure.
 StatusOr<GltfExport> WriteGltf(const std::string& path, const Image& image,
                                GltfExportOptions options);
 
