@@ -82,6 +82,16 @@ function readGltfJson(file) {
   return JSON.parse(bytes.toString('utf8'));
 }
 
+// The file names of a .gltf's external buffers (relative URIs without a directory).
+function bufferFiles(file) {
+  if (path.extname(file) !== '.gltf') return [];
+  return (readGltfJson(file).buffers || [])
+    .map((b) => b.uri || '')
+    .filter((uri) => uri && !uri.startsWith('data:'))
+    .map((uri) => decodeURIComponent(uri))
+    .filter((name) => !name.includes('/') && !name.includes('\\') && name !== '..');
+}
+
 // Frame and output size of each job.
 for (const job of jobs) {
   let gltfJson;
@@ -178,6 +188,9 @@ const server = http.createServer((req, res) => {
   } else if (model && Number(model[1]) < jobs.length &&
              model[2] === path.basename(jobs[Number(model[1])].input)) {
     serveFile(res, jobs[Number(model[1])].input);
+  } else if (model && Number(model[1]) < jobs.length && bufferFiles(jobs[Number(model[1])].input).includes(model[2])) {
+    // A .gltf's external buffer (the .bin beside it), by the name its buffers[].uri gives.
+    serveFile(res, path.join(path.dirname(jobs[Number(model[1])].input), model[2]));
   } else if (pathname.startsWith('/three/')) {
     const file = path.resolve(threeDir, '.' + pathname.slice('/three'.length));
     if (!file.startsWith(threeDir + path.sep)) { res.writeHead(403); res.end(); return; }
