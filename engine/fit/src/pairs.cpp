@@ -2,6 +2,7 @@
 #include "pairs.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 
@@ -108,34 +109,6 @@ PlacedPolyline Prepare(const FeatureCurve& c, double max_len) {
       double t = double(k) / pieces;
       out.points.push_back({a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)});
     }
-  }
-  return out;
-}
-
-// Unit normal offsets (mitred, limit 2) of a polygon's vertices.
-std::vector<Point2> Normals(const std::vector<Point2>& p, bool closed) {
-  const int m = int(p.size());
-  auto seg_normal = [&](int i) {  // normal of segment i -> i+1 (left of the direction)
-    Point2 a = p[i], b = p[(i + 1) % m];
-    double dx = b.x - a.x, dy = b.y - a.y, l = std::hypot(dx, dy);
-    return l > 0 ? Point2{-dy / l, dx / l} : Point2{0, 0};
-  };
-  std::vector<Point2> out(m);
-  for (int i = 0; i < m; ++i) {
-    bool has_prev = closed || i > 0, has_next = closed || i + 1 < m;
-    Point2 n1 = has_prev ? seg_normal((i - 1 + m) % m) : seg_normal(i);
-    Point2 n2 = has_next ? seg_normal(i) : n1;
-    if (!has_prev) n1 = n2;
-    double sx = n1.x + n2.x, sy = n1.y + n2.y, l = std::hypot(sx, sy);
-    if (l < 1e-6) {
-      out[i] = n1;
-      continue;
-    }
-    sx /= l;
-    sy /= l;
-    double c = sx * n1.x + sy * n1.y;
-    double scale = 1.0 / std::max(0.5, c);
-    out[i] = {sx * scale, sy * scale};
   }
   return out;
 }
@@ -278,7 +251,53 @@ double Length(const FeatureCurve& c) {
   return len;
 }
 
+// Unit normal offsets (mitred, limit 2) of a polygon's vertices.
+std::vector<Point2> PairNormals(const std::vector<Point2>& p, bool closed) {
+  const int m = int(p.size());
+  auto seg_normal = [&](int i) {  // normal of segment i -> i+1 (left of the direction)
+    Point2 a = p[i], b = p[(i + 1) % m];
+    double dx = b.x - a.x, dy = b.y - a.y, l = std::hypot(dx, dy);
+    return l > 0 ? Point2{-dy / l, dx / l} : Point2{0, 0};
+  };
+  std::vector<Point2> out(m);
+  for (int i = 0; i < m; ++i) {
+    bool has_prev = closed || i > 0, has_next = closed || i + 1 < m;
+    Point2 n1 = has_prev ? seg_normal((i - 1 + m) % m) : seg_normal(i);
+    Point2 n2 = has_next ? seg_normal(i) : n1;
+    if (!has_prev) n1 = n2;
+    double sx = n1.x + n2.x, sy = n1.y + n2.y, l = std::hypot(sx, sy);
+    if (l < 1e-6) {
+      out[i] = n1;
+      continue;
+    }
+    sx /= l;
+    sy /= l;
+    double c = sx * n1.x + sy * n1.y;
+    double scale = 1.0 / std::max(0.5, c);
+    out[i] = {sx * scale, sy * scale};
+  }
+  return out;
+}
+
 }  // namespace
+
+double PairDistance(float sharpness, const ControlMeshOptions& options) {
+  return options.use_sharpness ? std::max<double>(options.min_distance, options.rho * (1.0 - sharpness))
+                               : std::max<double>(options.min_distance, options.rho);
+}
+
+std::array<std::vector<Point2>, 2> OffsetPairSides(const std::vector<Point2>& centre, bool closed, double distance) {
+  const std::vector<Point2> nrm = PairNormals(centre, closed);
+  std::array<std::vector<Point2>, 2> sides{centre, centre};
+  for (int k = 0; k < 2; ++k) {
+    const double sign = k == 0 ? +1.0 : -1.0;
+    for (size_t i = 0; i < centre.size(); ++i) {
+      sides[k][i].x += sign * 0.5 * distance * nrm[i].x;
+      sides[k][i].y += sign * 0.5 * distance * nrm[i].y;
+    }
+  }
+  return sides;
+}
 
 StatusOr<PlacedFeatures> PlaceFeatures(int width, int height, const std::vector<FeatureCurve>& curves,
                                        const std::vector<Point2>& interior_samples,
@@ -363,17 +382,12 @@ StatusOr<PlacedFeatures> PlaceFeatures(int width, int height, const std::vector<
     const int m = int(centre.points.size());
     if (m < (centre.closed ? 3 : 2)) continue;
     float sharpness = options.use_sharpness ? curve.sharpness : 0.0f;
-    double d = options.use_sharpness ? std::max<double>(options.min_distance, options.rho * (1.0 - curve.sharpness))
-                                     : std::max<double>(options.min_distance, options.rho);
+    const double d = PairDistance(curve.sharpness, options);
     std::vector<PlacedPolyline> sides;
     if (options.pairs) {
-      std::vector<Point2> nrm = Normals(centre.points, centre.closed);
-      for (double sign : {+1.0, -1.0}) {
+      for (std::vector<Point2>& points : OffsetPairSides(centre.points, centre.closed, d)) {
         PlacedPolyline s = centre;
-        for (int i = 0; i < m; ++i) {
-          s.points[i].x += sign * 0.5 * d * nrm[i].x;
-          s.points[i].y += sign * 0.5 * d * nrm[i].y;
-        }
+        s.points = std::move(points);
         sides.push_back(std::move(s));
       }
     } else {

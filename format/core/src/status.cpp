@@ -26,6 +26,7 @@ std::string_view StatusCodeName(StatusCode code) {
     case StatusCode::kEncodeFailed: return "encode_failed";
     case StatusCode::kEmptyInput: return "empty_input";
     case StatusCode::kInternal: return "internal";
+    case StatusCode::kEditRefused: return "edit_refused";
   }
   return "unknown";
 }

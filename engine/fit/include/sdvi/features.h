@@ -2,6 +2,7 @@
 // (paper section IV steps 1-4) and the colour fit / refinement loop (steps 5-6).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -86,6 +87,19 @@ struct ControlMeshOptions {
   float clearance = 1.0f;    // min distance between different feature polylines (and
                              // from features to the boundary and to interior samples), px
 };
+
+// Distance between the two polylines of a feature pair (paper section IV step 3):
+// max(min_distance, rho (1 - sharpness)); max(min_distance, rho) when use_sharpness is false.
+double PairDistance(float sharpness, const ControlMeshOptions& options);
+
+// The two sides of a feature pair around its centre polygon (deBoor points, >= 2; a closed
+// one does not repeat its first point): every point moved by +-distance / 2 along the
+// averaged normal of its two segments, mitred (divided by the cosine of the half turn,
+// at most 2x) so that each side stays distance / 2 from the centre's segments. [0] is the
+// side along +n, n = (-dy, dx) / |(dx, dy)| for a segment direction (dx, dy); [1] along -n. The only
+// placement of pair sides: BuildControlMesh and the editor's sharpness change use it.
+std::array<std::vector<Point2>, 2> OffsetPairSides(const std::vector<Point2>& centre, bool closed,
+                                                   double distance);
 
 // Builds the control mesh (colours zero): the domain boundary (image rectangle with its
 // four corners tagged, or the boundary curves), feature pairs offset along averaged

@@ -36,6 +36,7 @@ enum class StatusCode : int {
   kEncodeFailed = 19,       // a dependency failed to encode
   kEmptyInput = 20,         // an empty image, mesh or file
   kInternal = 21,           // a broken invariant inside sdvi (a bug)
+  kEditRefused = 22,        // an edit would fold, degenerate or cross the mesh (nothing written)
 };
 
 // Stable lower_snake name of a code, e.g. "wrong_identifier" (used in --json output).

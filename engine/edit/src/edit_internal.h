@@ -1,0 +1,27 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// What the edit phases share: edge facts of a control mesh, the deformation.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "sdvi/edit.h"
+#include "sdvi/image.h"
+#include "sdvi/status.h"
+
+namespace sdvi::edit_internal {
+
+// Edges that lie in exactly one triangle, sorted.
+std::vector<Edge> BoundaryEdges(const Image& image);
+
+// Crease edges as the subdivision sees them: the listed ones and the boundary, sorted, unique.
+std::vector<Edge> AllCreaseEdges(const Image& image);
+
+// Twice the signed area of triangle t.
+double SignedArea2(const Image& image, const Triangle& t);
+
+// DeformOp (moving least squares, rigid) on image's positions; kInvalidArgument for bad
+// parameters.
+Status ApplyDeform(const DeformOp& op, Image* image);
+
+}  // namespace sdvi::edit_internal
