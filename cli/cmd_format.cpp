@@ -44,7 +44,7 @@ StatusOr<Image> LoadAny(const std::string& path) {
 }
 
 // Vertices that are corners: tagged explicitly, or with crease degree 1 or >= 3 counting
-// the listed crease edges and the mesh boundary (DESIGN.md section 2).
+// the listed crease edges and the mesh boundary (spec/SUBDIVISION.md section 1).
 size_t CountCorners(const Image& image) {
   std::map<Edge, int> edge_triangles;
   for (const Triangle& t : image.triangles)

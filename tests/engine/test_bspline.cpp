@@ -1,4 +1,4 @@
-// Crease limit points lie on the cubic B-spline of DESIGN.md section 2, evaluated
+// Crease limit points lie on the cubic B-spline of spec/METHOD.md section 2, evaluated
 // independently with de Boor's algorithm.
 #include <catch2/catch.hpp>
 

@@ -1,4 +1,4 @@
-// The masks of DESIGN.md section 3 (subdiv_rules.h).
+// The masks of spec/SUBDIVISION.md (subdiv_rules.h).
 #include <catch2/catch.hpp>
 
 #include "sdvi/subdiv_rules.h"

@@ -1,5 +1,5 @@
-// B-spline evaluation and fitting of feature chains (DESIGN.md 2, 6.2), checked against
-// an independent de Boor evaluator written here from the knot vectors of DESIGN.md.
+// B-spline evaluation and fitting of feature chains (spec/METHOD.md section 2 and section 6 step 2), checked against
+// an independent de Boor evaluator written here from the knot vectors of spec/METHOD.md section 2.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <vector>

@@ -12,7 +12,7 @@ namespace sdvi::gltf_test {
 
 // A width x height image as a grid of control vertices (cols x rows cells, two triangles
 // each). A colour discontinuity crosses it horizontally: two crease rows 2 px apart
-// (a feature pair, DESIGN.md 2) with warm colours above and cool colours below. The four
+// (a feature pair, spec/METHOD.md section 2) with warm colours above and cool colours below. The four
 // image corners are tagged corner. reverse_winding flips every triangle's vertex order.
 inline Image GradientWithCrease(uint32_t width, uint32_t height, int cols = 8, int rows = 6,
                                 bool reverse_winding = false) {

@@ -1,4 +1,4 @@
-// Metrics (DESIGN.md section 9) against an independent, direct computation.
+// Metrics (spec/METHOD.md section 9) against an independent, direct computation.
 #include <catch2/catch.hpp>
 
 #include <cmath>

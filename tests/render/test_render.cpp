@@ -1,4 +1,4 @@
-// Render: the limit surface of an Image at any scale (DESIGN.md section 4).
+// Render: the limit surface of an Image at any scale (spec/METHOD.md section 4).
 #include <catch2/catch.hpp>
 
 #include <cmath>

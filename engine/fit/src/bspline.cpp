@@ -1,4 +1,4 @@
-// Cubic B-spline evaluation and least-squares fitting of feature chains (DESIGN.md 2, 6.2).
+// Cubic B-spline evaluation and least-squares fitting of feature chains (spec/METHOD.md section 2 and section 6 step 2).
 #include "sdvi/bspline.h"
 
 #include <Eigen/Sparse>

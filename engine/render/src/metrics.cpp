@@ -1,4 +1,4 @@
-// Image metrics of DESIGN.md section 9: PSNR, MSSIM (Wang et al. 2004), mean absolute error.
+// Image metrics of spec/METHOD.md section 9: PSNR, MSSIM (Wang et al. 2004), mean absolute error.
 #include <algorithm>
 #include <array>
 #include <cmath>

@@ -1,5 +1,5 @@
 // Render: subdivide the control mesh to a level chosen from the output scale, push the
-// fine vertices to the limit surface and scan-convert them (DESIGN.md section 4).
+// fine vertices to the limit surface and scan-convert them (spec/METHOD.md section 4).
 #include <algorithm>
 #include <cmath>
 #include <string>

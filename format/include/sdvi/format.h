@@ -1,7 +1,7 @@
 // The .sdvi container (spec/FORMAT.md): reading, writing, validating.
 //
 // A .sdvi file is one FlatBuffers buffer (schema/sdvi.fbs, identifier "SDVI") holding the
-// control mesh of DESIGN.md section 8 at the paper's cost: 20 bytes a vertex, 6 bytes a
+// control mesh of spec/METHOD.md section 8 (spec/FORMAT.md) at the paper's cost: 20 bytes a vertex, 6 bytes a
 // triangle, tags implicit in triangle order and rotation. A raw file with no optional
 // data and V <= 65535 is exactly 20V + 6T + 68 bytes (+2 when T is odd).
 //

@@ -1,4 +1,4 @@
-// Cubic B-spline feature curves (DESIGN.md section 2 and section 6 step 2).
+// Cubic B-spline feature curves (spec/METHOD.md section 2 and section 6 step 2).
 //
 // A feature polyline of the control mesh is the deBoor (control) polygon of a cubic
 // B-spline, and Loop crease subdivision converges to exactly that spline:

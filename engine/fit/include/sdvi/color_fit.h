@@ -1,4 +1,4 @@
-// Colour fit (paper eq. 2-3, DESIGN.md section 5): the control positions are fixed, the
+// Colour fit (paper eq. 2-3, spec/METHOD.md section 5): the control positions are fixed, the
 // control colours are the unknowns of a linear least-squares problem
 //
 //   min over COLOR(V)  sum over domain pixels p  || I(p) - C_p COLOR(V) ||^2

@@ -1,8 +1,8 @@
-// Vectorizing a raster (paper section IV, DESIGN.md section 6): curvilinear features,
+// Vectorizing a raster (paper section IV, spec/METHOD.md section 6): curvilinear features,
 // B-spline fitting, feature pairs, constrained Delaunay triangulation (features.h), then the
 // colour fit (color_fit.h) and the refinement loop below.
 //
-// Refinement (DESIGN.md 6.6). After each fit the per-pixel error e(p) = sum over R, G, B of
+// Refinement (spec/METHOD.md section 6 step 6). After each fit the per-pixel error e(p) = sum over R, G, B of
 // (I(p) - reconstruction(p))^2 is averaged over a small Gaussian window (sigma
 // error_blur_sigma px) so that single noisy pixels do not attract vertices. Pixels whose
 // averaged RMS error exceeds error_threshold, and that lie farther than feature_clearance
@@ -131,7 +131,7 @@ StatusOr<VectorizeResult> VectorizeWithFeatures(const Raster& raster, const Rast
 // amplified 4x, drawn black (exact) to white; pixels outside the domain are mid grey.
 Raster ErrorImage(const Raster& reconstruction, const Raster& reference);
 
-// ---- Building blocks of the refinement (DESIGN.md 6.4 and 6.6), used by Vectorize ----
+// ---- Building blocks of the refinement (spec/METHOD.md section 6 steps 4 and 6), used by Vectorize ----
 
 // Pixels where no interior sample may go: outside the domain, or within `clearance` px of a
 // crease edge of mesh (the pairs' strips and the feature polylines themselves), or of a
@@ -149,7 +149,7 @@ std::vector<Point2> GridSamples(int width, int height, double spacing,
 std::vector<float> ErrorMap(const Raster& reconstruction, const Raster& target, const Raster* mask,
                             double sigma);
 
-// Data-dependent edge flips (DESIGN.md 6.4 after the CDT): in up to `passes` sweeps over the
+// Data-dependent edge flips (spec/METHOD.md section 6 step 4, after the CDT): in up to `passes` sweeps over the
 // non-crease interior edges (sorted; a triangle flips at most once a sweep), an edge whose
 // quadrilateral is strictly convex is flipped when the piecewise-linear interpolation of the
 // image (Gaussian sigma 1 px) sampled at the four vertices has a squared error over the
@@ -168,7 +168,7 @@ struct SpacingRule {
   double At(double error) const;
 };
 
-// Greedy far-apart selection (DESIGN.md 6.6): visits pixels with error > threshold in order
+// Greedy far-apart selection (spec/METHOD.md section 6 step 6): visits pixels with error > threshold in order
 // of decreasing error (ties: lower pixel index first) and keeps a pixel centre when it is
 // farther than spacing.At(its error) from every vertex in `existing` and every pixel kept
 // before; stops after max_count. Blocked pixels are skipped.

@@ -1,4 +1,4 @@
-// Public contract of the renderer and metrics (DESIGN.md sections 4 and 9), used by the
+// Public contract of the renderer and metrics (spec/METHOD.md sections 4 and 9), used by the
 // colour fit, the CLI and the exporters. The render module owns the implementation and
 // may add declarations; the names below are what other modules rely on.
 #pragma once
@@ -108,7 +108,7 @@ int ChooseRenderLevels(const Image& image, const RenderOptions& options);
 std::vector<uint32_t> ControlTrianglesInViewport(const Image& image, const Viewport& viewport,
                                                  double margin_px);
 
-// Metrics of DESIGN.md section 9 between a reconstruction and a reference of equal size,
+// Metrics of spec/METHOD.md section 9 between a reconstruction and a reference of equal size,
 // over the pixels where the reference's alpha (if any) and the reconstruction's alpha are
 // > 0.5. Grey images count as R = G = B.
 struct ImageMetrics {

@@ -1,4 +1,4 @@
-// The extended Loop scheme of Zhou, Zheng, Wei (IEEE TIP 2014), DESIGN.md section 3:
+// The extended Loop scheme of Zhou, Zheng, Wei (IEEE TIP 2014), spec/SUBDIVISION.md:
 // every refinement and limit mask in one place. Masks only, no storage and no topology:
 // callers gather a vertex's neighbourhood and ask here for the weights. Every mask's
 // weights sum to 1, so masks apply to all five coordinates (x, y, R, G, B) alike.
@@ -46,7 +46,7 @@ EdgeMask CreaseEdgeRule(bool v0_is_corner, bool v1_is_corner);
 
 // Limit, smooth vertex of valence n: (w v + sum of neighbours) / (w + n), w = 3n / (8 a(n)).
 SmoothVertexMask SmoothLimitRule(int valence);
-// Limit, crease vertex (the cubic B-spline of DESIGN.md section 2 at the vertex's knot):
+// Limit, crease vertex (the cubic B-spline of spec/METHOD.md section 2 at the vertex's knot):
 //   no corner neighbour  (c0 + 4 v + c1) / 6
 //   c0 corner only       (3 c0 + 7 v + 2 c1) / 12  (mirrored when c1 is the corner)
 //   both corners         (c0 + 2 v + c1) / 4

@@ -1,4 +1,4 @@
-// Tagged triangle-mesh topology of the extended Loop scheme (DESIGN.md sections 2-3):
+// Tagged triangle-mesh topology of the extended Loop scheme (spec/SUBDIVISION.md section 1):
 // connectivity tables (structure of arrays) plus crease tags on edges and
 // smooth / crease / corner tags on vertices. Refinement produces the next level's
 // topology with inherited tags; the masks that move values live in subdiv_rules.h and

@@ -1,4 +1,4 @@
-// sdvi::Image: the representation of DESIGN.md section 2, independent of any file format.
+// sdvi::Image: the representation of spec/METHOD.md section 2, independent of any file format.
 //
 // Units: positions in pixels of the source image, (0,0) = top-left corner of the
 // top-left pixel, x to the right, y down; pixel (i,j) covers [i,i+1) x [j,j+1) and its
@@ -42,7 +42,7 @@ struct FeaturePolyline {
   friend bool operator==(const FeaturePolyline&, const FeaturePolyline&) = default;
 };
 
-// Two feature polylines that together model one colour discontinuity (DESIGN.md 2):
+// Two feature polylines that together model one colour discontinuity (spec/METHOD.md section 2):
 // their distance is rho * (1 - sharpness). Indices into Image::polylines.
 struct FeaturePair {
   uint32_t first = 0, second = 0;
