@@ -20,7 +20,7 @@ struct IccConversion {
 // Converts raster's colours (8-bit sRGB scale floats, 1 or 3 colour channels plus an
 // optional alpha, which is left alone) from the colour space of the ICC profile icc to sRGB:
 // RGB profiles to the sRGB profile, grey profiles to a grey profile with the sRGB tone
-// curve, in float, with the profile's rendering intent; results clipped to 0..255.
+// curve, in 16 bits, with the profile's rendering intent; results clipped to 0..255.
 // kDecodeFailed when the profile cannot be parsed, kUnsupportedFormat when its colour space
 // does not match the raster's channels (a CMYK profile on RGB samples); the raster is then
 // unchanged.
