@@ -4,8 +4,8 @@
 //
 //   curve_examples [--svg-dir DIR] [--out DIR] [--scale S]
 //
-// cherries4 (the cherries at 4x size) and dots (400 circles) measure larger drawings; they
-// have no SVG file.
+// cherries4 (the cherries at 4x size), dots (400 circles) and spiral (one 38,000 px curve)
+// measure larger drawings; they have no SVG file.
 // --svg-dir writes each drawing's SVG form (the sdvi curves namespace; this is how the
 // files in examples/curves are made), --out writes NAME.sdvi and NAME.png (rendered at
 // scale S, default 2). Prints, per drawing: curves, pairs kept, control vertices and
@@ -208,8 +208,9 @@ sdvi::CurveDrawing Sharpness() {
     for (int i = 0; i <= 6; ++i) p.push_back({x + 9 * std::sin(i * 1.3 + k), -12 + i * 224.0 / 6});
     // Downward on screen: left is +x, the next band.
     float s = 1.0f - 0.25f * k;
-    d.curves.push_back(Colored(ThroughPoints(p, false), Const(band[k + 1]), Const(band[k]), s,
-                               "s" + std::to_string(int(s * 100))));
+    std::string name = "s";
+    name += std::to_string(int(s * 100));
+    d.curves.push_back(Colored(ThroughPoints(p, false), Const(band[k + 1]), Const(band[k]), s, name));
   }
   return d;
 }
@@ -266,6 +267,21 @@ sdvi::CurveDrawing Dots() {
       d.curves.push_back(Colored(c, Const({next(), next(), next()}), Const({next(), next(), next()}),
                                  float((i * 7 + j * 3) % 11) / 10, "dot"));
     }
+  return d;
+}
+
+// One long curve: a spiral of 24 turns (about 38,000 px) on 1024 x 1024, colours varying
+// along it, for timing the fit and the placement of long curves.
+sdvi::CurveDrawing Spiral() {
+  sdvi::CurveDrawing d{1024, 1024, {}};
+  std::vector<Point2> p;
+  const int turns = 24, per_turn = 16;
+  for (int i = 0; i <= turns * per_turn; ++i) {
+    double a = 2 * 3.14159265358979 * i / per_turn, r = 20 + 480.0 * i / (turns * per_turn);
+    p.push_back({512 + r * std::cos(a), 512 + r * std::sin(a)});
+  }
+  d.curves.push_back(Colored(ThroughPoints(p, false), {{0, {250, 220, 60}}, {1, {200, 30, 60}}},
+                             {{0, {20, 40, 120}}, {1, {40, 160, 200}}}, 0.7f, "spiral"));
   return d;
 }
 
@@ -360,12 +376,14 @@ int main(int argc, char** argv) {
       {"rainbow", "Colour stops along curves", Rainbow()},
       {"cherries4", "The cherries drawn 4x larger (1600x1200)", Scaled(Cherries(), 4)},
       {"dots", "400 circles on 1024x1024", Dots()},
+      {"spiral", "One spiral curve of 38,000 px on 1024x1024", Spiral()},
   };
   std::printf("%-10s %6s %6s %8s %9s %10s %10s %9s\n", "drawing", "curves", "pairs", "vertices", "triangles",
               "create_ms", "render_ms", "identical");
   int failures = 0;
   for (const Example& e : examples) {
-    const bool timing_only = std::string(e.name) == "cherries4" || std::string(e.name) == "dots";
+    const bool timing_only = std::string(e.name) == "cherries4" || std::string(e.name) == "dots" ||
+                             std::string(e.name) == "spiral";
     if (!svg_dir.empty() && !timing_only) {
       std::ofstream f(svg_dir + "/" + e.name + ".svg", std::ios::binary);
       f << Svg(e.drawing, e.title);
