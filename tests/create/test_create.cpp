@@ -323,9 +323,12 @@ TEST_CASE("create: random drawings give a valid image or a specific error, never
         p = b.end;
       }
       curve.closed = next() % 2 == 0;
-      curve.left = {{0, {uniform(0, 255), uniform(0, 255), uniform(0, 255)}}};
-      curve.right = {{0.3, {uniform(0, 255), uniform(0, 255), uniform(0, 255)}},
-                     {0.9, {uniform(0, 255), uniform(0, 255), uniform(0, 255)}}};
+      auto color = [&]() {
+        const float r = float(uniform(0, 255)), g = float(uniform(0, 255)), b = float(uniform(0, 255));
+        return CurveColor{r, g, b};
+      };
+      curve.left = {{0, color()}};
+      curve.right = {{0.3, color()}, {0.9, color()}};
       curve.sharpness = float(uniform(0, 1));
       d.curves.push_back(curve);
     }
