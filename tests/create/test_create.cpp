@@ -291,7 +291,17 @@ TEST_CASE("create: bad drawings give specific errors", "[create]") {
   o.max_segments = 3;
   CHECK(code({64, 64, {good}}, o) == StatusCode::kLimitExceeded);
   o = {};
+  o.max_color_stops = 1;
+  CHECK(code({64, 64, {good}}, o) == StatusCode::kLimitExceeded);
+  o = {};
+  o.max_length = 100;  // the circle is 2 pi 10 ~ 63 px: two of them exceed 100
+  CHECK(code({64, 64, {good}}, o) == StatusCode::kOk);
+  CHECK(code({64, 64, {good, good}}, o) == StatusCode::kLimitExceeded);
+  o = {};
   o.rho = -1;
+  CHECK(code({64, 64, {good}}, o) == StatusCode::kInvalidArgument);
+  o = {};
+  o.fit_tolerance = std::numeric_limits<double>::quiet_NaN();
   CHECK(code({64, 64, {good}}, o) == StatusCode::kInvalidArgument);
 }
 
