@@ -150,6 +150,17 @@ int RunInfo(const CommandArgs& args) {
 #endif
     j["ratio_to_paper"] = paper ? static_cast<double>(file->file_bytes) / paper : 0.0;
   }
+#ifdef SDVI_CLI_HAS_CODEC
+  {  // Where the bytes go (PartBytes in sdvi/codec.h).
+    auto bytes = ReadFileBytes(path);
+    if (!bytes.ok()) return ReportError("info", bytes.status());
+    auto parts = MeasureParts(*bytes, path);
+    if (!parts.ok()) return ReportError("info", parts.status());
+    j["bytes_by_part"] = {{"connectivity", parts->connectivity}, {"positions", parts->positions},
+                          {"colors", parts->colors},             {"tags", parts->tags},
+                          {"feature_layer", parts->feature_layer}, {"container", parts->container}};
+  }
+#endif
   j["compression_ratio"] = vertices ? static_cast<double>(pixels) / vertices : 0.0;
   j["bits_per_pixel"] = pixels ? 8.0 * file->file_bytes / pixels : 0.0;
 
@@ -197,6 +208,13 @@ int RunInfo(const CommandArgs& args) {
     std::printf(" (Draco payload %zu; %.3f x the paper size)", file->compressed_payload.size(),
                 j["ratio_to_paper"].get<double>());
   std::printf("\n");
+  if (j.contains("bytes_by_part")) {
+    std::printf("bytes by part     ");
+    for (const auto& [part, n] : j["bytes_by_part"].items())
+      std::printf(" %s %llu (%.1f%%)", part.c_str(), n.get<unsigned long long>(),
+                  file->file_bytes ? 100.0 * n.get<double>() / double(file->file_bytes) : 0.0);
+    std::printf("\n");
+  }
   std::printf("compression ratio  %.2f pixels per vertex\n", j["compression_ratio"].get<double>());
   std::printf("bits per pixel     %.3f\n", j["bits_per_pixel"].get<double>());
   return 0;

@@ -199,6 +199,9 @@ int RunCompare(const CommandArgs& args) {
     if (!r.ok()) return ReportError(cmd, r.status());
     b->raster = std::move(*r);
   }
+  // A .sdvi counts as its 8-bit render, as its PNG would (spec/RATE.md 1: one PSNR).
+  if (a->is_sdvi) RoundTo8Bit(a->raster);
+  if (b->is_sdvi) RoundTo8Bit(b->raster);
   auto m = CompareImages(a->raster, b->raster);
   if (!m.ok()) return ReportError(cmd, m.status());
   const bool grey = a->raster.channels < 3 && b->raster.channels < 3;

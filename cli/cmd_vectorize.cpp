@@ -18,6 +18,7 @@
 #include "sdvi/file_util.h"
 #include "sdvi/progress.h"
 #include "sdvi/raster_io.h"
+#include "sdvi/rate.h"
 #include "sdvi/vectorize.h"
 
 namespace sdvi::cli {
@@ -128,20 +129,35 @@ Status VectorizeCommand(const Args& args) {
   VectorizeResult& result = *vectorized;
   result.report.seconds.load = load_seconds;
 
+  // The file and its one PSNR (spec/RATE.md): the x1 render of what a reader decodes.
+  const double fit_psnr = result.report.psnr;
+  nlohmann::json rate_report;
   if (args.flag("--compress")) {
-    // Quantisation steps from the fit's own error: the codec spends at most ~1% of it.
-    CompressOptions compress;
-    compress.reference_mse = 255.0 * 255.0 / std::pow(10.0, result.report.psnr / 10.0);
-    SDVI_RETURN_IF_ERROR(WriteImage(*output, result.image, &compress));
+    // Quantisation chosen by rate-distortion, colours refitted on the quantised positions.
+    RateOptions rate;
+    rate.threads = options.threads;
+    SDVI_ASSIGN_OR_RETURN(RateResult compressed,
+                          CompressForRate(result, raster, mask_path ? &mask : nullptr, options.fit, rate));
+    SDVI_RETURN_IF_ERROR(WriteFileAtomic(*output, compressed.file.data(), compressed.file.size()));
+    result.report.psnr = compressed.psnr;
+    rate_report = {{"position_bits", compressed.position_bits},
+                   {"color_bits", compressed.color_bits},
+                   {"slope_db", compressed.slope_db},
+                   {"candidates", compressed.evaluations}};
   } else {
-    SDVI_RETURN_IF_ERROR(SaveSdvi(*output, result.image));
+    SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, EncodeImage(result.image, nullptr, *output));
+    SDVI_ASSIGN_OR_RETURN(Image decoded, DecodeImage(bytes, *output));
+    SDVI_RETURN_IF_ERROR(WriteFileAtomic(*output, bytes));
+    SDVI_ASSIGN_OR_RETURN(result.report.psnr, FileQualityPsnr(decoded, raster, options.threads));
   }
   std::error_code ec;
   const uint64_t file_size = std::filesystem::file_size(*output, ec);
 
   if (const std::optional<std::string> report_path = args.get("--report")) {
-    const std::string text =
-        ReportJson(input, *output, raster, result.report, ec ? 0 : file_size).dump(2) + "\n";
+    nlohmann::json report = ReportJson(input, *output, raster, result.report, ec ? 0 : file_size);
+    report["fit_psnr_db"] = fit_psnr;
+    if (!rate_report.is_null()) report["rate"] = rate_report;
+    const std::string text = report.dump(2) + "\n";
     SDVI_RETURN_IF_ERROR(WriteFileAtomic(*report_path, text.data(), text.size()));
   }
   if (const std::optional<std::string> debug_dir = args.get("--debug-dir")) {

@@ -17,6 +17,8 @@ PACKAGES+=(openexr libjpeg-turbo-progs webp libosd-dev clang libclang-rt-14-dev 
 # SVG import (converters/svg): librsvg, cairo (script surface), libxml2; rsvg-convert for
 # scripts/svg_tables.sh.
 PACKAGES+=(librsvg2-dev libcairo2-dev libxml2-dev librsvg2-bin)
+# Codecs bench_rd compares with: avifenc/avifdec, cjxl/djxl.
+PACKAGES+=(libavif-bin libjxl-tools)
 # Node.js: any install will do (the machine may carry a newer one than Debian's).
 command -v npm >/dev/null 2>&1 || PACKAGES+=(nodejs npm)
 # PDF export (converters/pdf): qpdf's library and zlib; the PDF tests' viewers and checker

@@ -169,7 +169,8 @@ StatusOr<DecodedMesh> DecodeDracoMesh(std::span<const uint8_t> bytes, const std:
 }
 
 // The Draco mesh of image's control mesh, with or without the vertex id attribute.
-std::unique_ptr<draco::Mesh> BuildDracoMesh(const Image& image, bool with_ids, bool grey) {
+std::unique_ptr<draco::Mesh> BuildDracoMesh(const Image& image, bool with_ids, bool grey,
+                                            bool with_color = true) {
   auto mesh = std::make_unique<draco::Mesh>();
   const uint32_t n = static_cast<uint32_t>(image.vertices.size());
   mesh->set_num_points(n);
@@ -181,9 +182,9 @@ std::unique_ptr<draco::Mesh> BuildDracoMesh(const Image& image, bool with_ids, b
   color.Init(draco::GeometryAttribute::COLOR, nullptr, color_components, draco::DT_FLOAT32, false,
              color_components * sizeof(float), 0);
   const int position_id = mesh->AddAttribute(position, true, n);
-  const int color_id = mesh->AddAttribute(color, true, n);
   mesh->attribute(position_id)->set_unique_id(kPositionUniqueId);
-  mesh->attribute(color_id)->set_unique_id(kColorUniqueId);
+  const int color_id = with_color ? mesh->AddAttribute(color, true, n) : -1;
+  if (with_color) mesh->attribute(color_id)->set_unique_id(kColorUniqueId);
   int id_id = -1;
   if (with_ids) {
     draco::GeometryAttribute id;
@@ -197,7 +198,7 @@ std::unique_ptr<draco::Mesh> BuildDracoMesh(const Image& image, bool with_ids, b
     const float xy[2] = {v.x, v.y};
     const float rgb[3] = {v.r, v.g, v.b};
     mesh->attribute(position_id)->SetAttributeValue(draco::AttributeValueIndex(i), xy);
-    mesh->attribute(color_id)->SetAttributeValue(draco::AttributeValueIndex(i), rgb);
+    if (with_color) mesh->attribute(color_id)->SetAttributeValue(draco::AttributeValueIndex(i), rgb);
     if (with_ids) mesh->attribute(id_id)->SetAttributeValue(draco::AttributeValueIndex(i), &i);
   }
   mesh->SetNumFaces(image.triangles.size());
@@ -663,6 +664,37 @@ StatusOr<DracoPayloadInfo> InspectDracoPayload(std::span<const uint8_t> payload,
   info.has_feature_layer = (h.flags & kFlagFeatureLayer) != 0;
   info.grey = (h.flags & kFlagGrey) != 0;
   return info;
+}
+
+StatusOr<PartBytes> codec_internal::MeasureDracoParts(std::span<const uint8_t> payload,
+                                                      const std::string& source_name) {
+  SDVI_ASSIGN_OR_RETURN(Header h, ParseHeader(payload, source_name));
+  Image image;
+  SDVI_RETURN_IF_ERROR(DecodeDracoPayload(payload, source_name, &image));
+  const bool grey = (h.flags & kFlagGrey) != 0;
+  PartBytes parts;
+  try {
+    auto positions_only = BuildDracoMesh(image, false, grey, false);
+    SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> topology,
+                          EncodeDracoMesh(*positions_only, draco::MESH_EDGEBREAKER_ENCODING, 1, 1, h.speed));
+    SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> with_positions,
+                          EncodeDracoMesh(*positions_only, draco::MESH_EDGEBREAKER_ENCODING,
+                                          h.position_bits, h.color_bits, h.speed));
+    parts.connectivity = std::min<uint64_t>(topology.size(), h.draco_size);
+    parts.positions = std::min<uint64_t>(with_positions.size(), h.draco_size) - parts.connectivity;
+    parts.colors = h.draco_size - parts.connectivity - parts.positions;
+  } catch (const std::bad_alloc&) {
+    return Status(StatusCode::kLimitExceeded, source_name + ": out of memory while measuring the payload");
+  }
+  codec_internal::Tags tags;
+  tags.crease_edges = image.crease_edges;
+  tags.corners = image.corners;
+  const std::vector<uint8_t> without_features =
+      codec_internal::EncodeTags(h.vertex_count, codec_internal::CollectMeshEdges(image.triangles), tags);
+  parts.tags = std::min<uint64_t>(without_features.size(), h.tags_size);
+  parts.feature_layer = h.tags_size - parts.tags;
+  parts.container = kHeaderSize;
+  return parts;
 }
 
 }  // namespace sdvi

@@ -4,6 +4,7 @@
 
 #include "sdvi/codec.h"
 #include "sdvi/file_util.h"
+#include "tag_stream.h"
 
 namespace sdvi {
 namespace {
@@ -110,6 +111,30 @@ StatusOr<CompressionReport> ReportCompression(const SdviFile& file, const std::s
     report.bytes_per_vertex = double(report.file_bytes) / double(report.vertex_count);
   if (report.paper_bytes > 0) report.ratio_to_paper = double(report.file_bytes) / double(report.paper_bytes);
   return report;
+}
+
+StatusOr<PartBytes> MeasureParts(std::span<const uint8_t> file_bytes, const std::string& source_name) {
+  SDVI_ASSIGN_OR_RETURN(SdviFile file, DecodeSdvi(file_bytes, source_name));
+  PartBytes parts;
+  if (file.payload == PayloadKind::kDraco) {
+    SDVI_ASSIGN_OR_RETURN(parts, codec_internal::MeasureDracoParts(file.compressed_payload, source_name));
+    parts.container += file.file_bytes - file.compressed_payload.size();
+    return parts;
+  }
+  const Image& image = file.image;
+  const uint64_t v = image.vertices.size(), t = image.triangles.size();
+  parts.positions = 8 * v;
+  parts.colors = 12 * v;
+  parts.connectivity = (v <= kNarrowProfileMaxVertices ? 6 : 12) * t;
+  parts.tags = 4 * image.corners.size();
+  Image without_features = image;
+  without_features.polylines.clear();
+  without_features.pairs.clear();
+  SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> smaller, EncodeSdvi(without_features));
+  parts.feature_layer = file.file_bytes > smaller.size() ? file.file_bytes - smaller.size() : 0;
+  const uint64_t counted = parts.positions + parts.colors + parts.connectivity + parts.tags + parts.feature_layer;
+  parts.container = file.file_bytes > counted ? file.file_bytes - counted : 0;
+  return parts;
 }
 
 }  // namespace sdvi

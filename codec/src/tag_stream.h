@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "sdvi/codec.h"
 #include "sdvi/image.h"
 #include "sdvi/status.h"
 
@@ -52,5 +53,9 @@ Status DecodeTags(std::span<const uint8_t> bytes, uint32_t vertex_count,
                   const std::vector<MeshEdge>& edges, uint32_t expected_crease_edges,
                   uint32_t expected_corners, bool has_feature_layer,
                   const std::string& source_name, Tags* tags);
+
+// The parts of a Draco payload (PartBytes in sdvi/codec.h; container = its 40-byte header);
+// defined in draco_payload.cpp.
+StatusOr<PartBytes> MeasureDracoParts(std::span<const uint8_t> payload, const std::string& source_name);
 
 }  // namespace sdvi::codec_internal

@@ -149,4 +149,18 @@ struct CompressionReport {
 // Computes the report from a decoded container (header reads only; no Draco decoding).
 StatusOr<CompressionReport> ReportCompression(const SdviFile& file, const std::string& source_name);
 
+// Where the bytes of a file go (`sdvi info`), in bytes; the parts sum to the file size.
+//  raw payload (exact): positions 8 V, colours 12 V, connectivity 6 T (12 T wide; the tags
+//    of crease edges are implicit in triangle order), tags = explicit corners, feature layer
+//    = what the container grows by with it, container = the rest (header, tables, metadata).
+//  Draco payload (measured by re-encoding parts of the decoded mesh at the file's settings):
+//    connectivity = the Draco mesh with 1-bit positions and no colours, positions = the
+//    mesh with positions minus that, colours = the rest of the Draco mesh (vertex ids, when
+//    present, included), tags = crease and corner bits, feature layer = the rest of the tag
+//    stream, container = payload header, container, metadata.
+struct PartBytes {
+  uint64_t connectivity = 0, positions = 0, colors = 0, tags = 0, feature_layer = 0, container = 0;
+};
+StatusOr<PartBytes> MeasureParts(std::span<const uint8_t> file_bytes, const std::string& source_name);
+
 }  // namespace sdvi

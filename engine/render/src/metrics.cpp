@@ -152,4 +152,13 @@ StatusOr<ImageMetrics> CompareImages(const Raster& reconstruction, const Raster&
   return m;
 }
 
+void RoundTo8Bit(Raster& raster) {
+  const int alpha = raster.has_alpha() ? raster.channels - 1 : -1;
+  for (size_t i = 0; i < raster.data.size(); ++i) {
+    float& v = raster.data[i];
+    if (int(i % size_t(raster.channels)) == alpha) v = std::round(std::clamp(v, 0.f, 1.f) * 255.f) / 255.f;
+    else v = std::round(std::clamp(v, 0.f, 255.f));
+  }
+}
+
 }  // namespace sdvi

@@ -127,4 +127,8 @@ struct ImageMetrics {
 // kEmptyInput (empty image or no pixel in both domains).
 StatusOr<ImageMetrics> CompareImages(const Raster& reconstruction, const Raster& reference);
 
+// Rounds colours to integers in 0..255 and alpha to multiples of 1/255, as an 8-bit PNG
+// stores them: a render measured after this has the PSNR of its PNG (spec/RATE.md 1).
+void RoundTo8Bit(Raster& raster);
+
 }  // namespace sdvi

@@ -1,0 +1,67 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Rate control over the whole chain (spec/RATE.md): from a vectorized image to the smallest
+// .sdvi file worth its bytes.
+//
+// Quantisation by rate-distortion. A vectorized image is a point on the budget's RD curve;
+// the codec's position and colour steps move it along another. Both trade the same way:
+// the Lagrangian cost of a file is J = ln(bytes) - PSNR / s, where s (dB per natural-log
+// unit of bytes) is the slope of the vectorizer's own RD curve at this budget: the PSNR its
+// last refinement rounds gained per log of vertices added (VectorizeReport::history), or
+// RateOptions::slope_db. Starting from the conservative steps (1% of the fit's MSE,
+// DefaultPositionBits / DefaultColorBits), position bits and then colour bits are lowered
+// one at a time while J falls. Every candidate is measured, not modelled: encode, decode,
+// (refit colours), render at x1, PSNR.
+//
+// Colours refitted on quantised positions. The colour fit is linear least squares for fixed
+// positions, so after the positions are quantised the colours are fitted again on the decoded
+// positions (FitColors with the vectorizer's options) and only then quantised: the fit
+// absorbs most of what moving the positions cost.
+//
+// The PSNR of a result (one number, reported everywhere): CompareImages of the file as a
+// reader decodes it, rendered at x1 (Render, default levels) and rounded to 8 bits as a PNG
+// stores it, against the source (CompareImages: pixels where both alphas are > 0.5).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "sdvi/image.h"
+#include "sdvi/raster.h"
+#include "sdvi/status.h"
+#include "sdvi/vectorize.h"
+
+namespace sdvi {
+
+struct RateOptions {
+  double slope_db = 0;        // s of the header comment; 0 = from the vectorizer's history
+  bool refit_colors = true;   // refit colours on the quantised positions
+  bool search_bits = true;    // false: the conservative steps only (v1 `--compress`)
+  int max_steps = 8;          // bit reductions tried per attribute at most
+  int threads = 1;
+};
+
+struct RateResult {
+  std::vector<uint8_t> file;  // the .sdvi container (Draco payload)
+  Image decoded;              // what a reader of file gets
+  double psnr = 0;            // FileQualityPsnr of decoded
+  int position_bits = 0, color_bits = 0;
+  double slope_db = 0;        // s used
+  int evaluations = 0;        // candidates measured
+};
+
+// The slope s (dB per natural-log unit of vertices) of a vectorizer run: over the last
+// refinement rounds that added at least 5% vertices, clamped to [1, 12]; 4 when the history
+// has no such round.
+double SlopeFromHistory(const VectorizeReport& report);
+
+// The PSNR of the header comment for an image (as decoded) against its source: exactly what
+// `sdvi compare` prints for the file or for its x1 PNG render.
+StatusOr<double> FileQualityPsnr(const Image& decoded, const Raster& source, int threads);
+
+// The smallest file worth its bytes for a vectorized image (header comment). source and mask
+// are what Vectorize was given, fit its colour-fit options.
+StatusOr<RateResult> CompressForRate(const VectorizeResult& vectorized, const Raster& source,
+                                     const Raster* mask, const ColorFitOptions& fit,
+                                     const RateOptions& options);
+
+}  // namespace sdvi

@@ -1,0 +1,169 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include "sdvi/codec.h"
+#include "sdvi/rate.h"
+#include "sdvi/raster_io.h"
+#include "sdvi/render.h"
+#include "sdvi/vectorize.h"
+
+namespace {
+
+// A small vectorized sample (fast: 96 x 72 pixels).
+const sdvi::VectorizeResult& Sample(sdvi::Raster* source = nullptr) {
+  static const sdvi::Raster raster = sdvi::MakeSampleImage(96, 72);
+  static const sdvi::VectorizeResult result = [] {
+    sdvi::VectorizeOptions options;
+    options.compression_ratio = 20;
+    auto r = sdvi::Vectorize(raster, nullptr, options);
+    REQUIRE(r.ok());
+    return std::move(r).value();
+  }();
+  if (source) *source = raster;
+  return result;
+}
+
+double Mse(double psnr) { return 255.0 * 255.0 / std::pow(10.0, psnr / 10.0); }
+
+}  // namespace
+
+TEST_CASE("RoundTo8Bit rounds colours to 0..255 integers and alpha to 1/255 steps", "[rate]") {
+  sdvi::Raster r(2, 1, 4);
+  const float values[8] = {-3.f, 12.5f, 300.f, 0.4999f, 254.49f, 0.2f, 1e9f, 1.5f};
+  std::copy(values, values + 8, r.data.begin());
+  sdvi::RoundTo8Bit(r);
+  CHECK(r.data[0] == 0.f);
+  CHECK(r.data[1] == 13.f);  // half away from zero
+  CHECK(r.data[2] == 255.f);
+  CHECK(r.data[3] == std::round(0.4999f * 255.f) / 255.f);
+  CHECK(r.data[4] == 254.f);
+  CHECK(r.data[5] == 0.f);
+  CHECK(r.data[6] == 255.f);
+  CHECK(r.data[7] == 1.f);  // alpha clamped to 1
+}
+
+TEST_CASE("SlopeFromHistory takes the last round that grew the mesh by 5%", "[rate]") {
+  sdvi::VectorizeReport report;
+  CHECK(sdvi::SlopeFromHistory(report) == 4.0);
+  report.history = {{100, 0, 0, 20.0}, {200, 0, 0, 23.0}, {205, 0, 0, 23.1}};
+  // 205 / 200 < 1.05: the slope is that of 100 -> 200 vertices.
+  CHECK(sdvi::SlopeFromHistory(report) == Approx(3.0 / std::log(2.0)));
+  report.history = {{100, 0, 0, 20.0}, {110, 0, 0, 30.0}};
+  CHECK(sdvi::SlopeFromHistory(report) == 12.0);  // clamped
+  report.history = {{100, 0, 0, 20.0}, {200, 0, 0, 19.0}};
+  CHECK(sdvi::SlopeFromHistory(report) == 1.0);
+}
+
+TEST_CASE("without the search the file is v1's conservative Draco file, byte for byte", "[rate]") {
+  sdvi::Raster source;
+  const sdvi::VectorizeResult& v = Sample(&source);
+  sdvi::RateOptions options;
+  options.search_bits = false;
+  options.refit_colors = false;
+  auto r = sdvi::CompressForRate(v, source, nullptr, {}, options);
+  REQUIRE(r.ok());
+  sdvi::CompressOptions v1;
+  v1.reference_mse = Mse(v.report.psnr);
+  auto expected = sdvi::EncodeImage(v.image, &v1);
+  REQUIRE(expected.ok());
+  CHECK(r->file == *expected);
+  CHECK(r->evaluations == 1);
+}
+
+TEST_CASE("one PSNR: the result's, the decoded file's render and its PNG agree exactly", "[rate]") {
+  sdvi::Raster source;
+  const sdvi::VectorizeResult& v = Sample(&source);
+  sdvi::RateOptions options;
+  auto r = sdvi::CompressForRate(v, source, nullptr, {}, options);
+  REQUIRE(r.ok());
+  auto decoded = sdvi::DecodeImage(r->file, "test");
+  REQUIRE(decoded.ok());
+  CHECK(*decoded == r->decoded);
+  // Independently: render at x1 (default levels), write the PNG, read it back, compare.
+  sdvi::RenderOptions render;
+  render.viewport = sdvi::Viewport::Identity(int(decoded->width), int(decoded->height));
+  auto raster = sdvi::Render(*decoded, render);
+  REQUIRE(raster.ok());
+  const std::string png = (std::filesystem::temp_directory_path() / "sdvi_rate_test.png").string();
+  REQUIRE(sdvi::SaveRasterPng(png, *raster).ok());
+  auto loaded = sdvi::LoadRaster(png);
+  REQUIRE(loaded.ok());
+  auto from_png = sdvi::CompareImages(*loaded, source);
+  REQUIRE(from_png.ok());
+  CHECK(r->psnr == from_png->psnr);
+  auto file_psnr = sdvi::FileQualityPsnr(*decoded, source, 1);
+  REQUIRE(file_psnr.ok());
+  CHECK(*file_psnr == r->psnr);
+}
+
+TEST_CASE("the RD search never ends at a higher Lagrangian cost than its start", "[rate]") {
+  sdvi::Raster source;
+  const sdvi::VectorizeResult& v = Sample(&source);
+  sdvi::RateOptions start;
+  start.search_bits = false;
+  auto first = sdvi::CompressForRate(v, source, nullptr, {}, start);
+  REQUIRE(first.ok());
+  sdvi::RateOptions search;
+  auto best = sdvi::CompressForRate(v, source, nullptr, {}, search);
+  REQUIRE(best.ok());
+  CHECK(best->slope_db == first->slope_db);
+  auto cost = [&](const sdvi::RateResult& r) { return std::log(double(r.file.size())) - r.psnr / r.slope_db; };
+  CHECK(cost(*best) <= cost(*first));
+  CHECK(best->position_bits <= first->position_bits);
+  CHECK(best->color_bits <= first->color_bits);
+  // Deterministic.
+  auto again = sdvi::CompressForRate(v, source, nullptr, {}, search);
+  REQUIRE(again.ok());
+  CHECK(again->file == best->file);
+}
+
+TEST_CASE("MeasureParts: raw parts are exact and both payloads sum to the file", "[rate][codec]") {
+  const sdvi::Image& image = Sample().image;
+  REQUIRE(!image.polylines.empty());
+  auto raw = sdvi::EncodeImage(image, nullptr);
+  REQUIRE(raw.ok());
+  auto parts = sdvi::MeasureParts(*raw, "raw");
+  REQUIRE(parts.ok());
+  CHECK(parts->positions == 8 * image.vertices.size());
+  CHECK(parts->colors == 12 * image.vertices.size());
+  CHECK(parts->connectivity == 6 * image.triangles.size());
+  CHECK(parts->tags == 4 * image.corners.size());
+  sdvi::Image bare = image;
+  bare.polylines.clear();
+  bare.pairs.clear();
+  auto smaller = sdvi::EncodeImage(bare, nullptr);
+  REQUIRE(smaller.ok());
+  CHECK(parts->feature_layer == raw->size() - smaller->size());
+  auto sum = [](const sdvi::PartBytes& p) {
+    return p.connectivity + p.positions + p.colors + p.tags + p.feature_layer + p.container;
+  };
+  CHECK(sum(*parts) == raw->size());
+
+  sdvi::CompressOptions with_layer, without_layer;
+  without_layer.feature_layer = false;
+  auto draco = sdvi::EncodeImage(image, &with_layer);
+  auto draco_bare = sdvi::EncodeImage(image, &without_layer);
+  REQUIRE(draco.ok());
+  REQUIRE(draco_bare.ok());
+  auto a = sdvi::MeasureParts(*draco, "draco");
+  auto b = sdvi::MeasureParts(*draco_bare, "draco without layer");
+  REQUIRE(a.ok());
+  REQUIRE(b.ok());
+  CHECK(sum(*a) == draco->size());
+  CHECK(sum(*b) == draco_bare->size());
+  CHECK(a->feature_layer > 0);
+  CHECK(b->feature_layer == 0);
+  CHECK(a->tags == b->tags);
+  CHECK(a->connectivity > 0);
+  CHECK(a->positions > 0);
+  CHECK(a->colors > 0);
+  // A damaged file is an error naming it.
+  std::vector<uint8_t> cut(draco->begin(), draco->begin() + draco->size() / 2);
+  auto bad = sdvi::MeasureParts(cut, "cut.sdvi");
+  REQUIRE(!bad.ok());
+  CHECK(bad.status().message().find("cut.sdvi") != std::string::npos);
+}
