@@ -599,7 +599,7 @@ int main(int argc, char** argv) {
     }
   }
   fs::create_directories(out);
-  const fs::path work = out / "work";
+  const fs::path work = out / ("work_" + (only_class.empty() ? std::string("all") : only_class));
   fs::create_directories(work);
   const char* names[4] = {"jpeg", "webp", "avif", "jxl"};
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "sdvi/codec.h"
 #include "sdvi/color_fit.h"
@@ -96,6 +97,7 @@ StatusOr<RateResult> CompressForRate(const VectorizeResult& vectorized, const Ra
         const int c = best.color_bits - (attribute == 1 ? 1 : 0);
         if (p < kMinBits || c < kMinBits) break;
         SDVI_ASSIGN_OR_RETURN(Candidate next, evaluate(p, c));
+        if (next.psnr < options.min_psnr) break;
         if (!(next.Cost(result.slope_db) < best.Cost(result.slope_db))) break;
         best = std::move(next);
       }
@@ -107,6 +109,83 @@ StatusOr<RateResult> CompressForRate(const VectorizeResult& vectorized, const Ra
   result.position_bits = best.position_bits;
   result.color_bits = best.color_bits;
   return result;
+}
+
+double BudgetForQuality(double quality) {
+  return 400.0 * std::pow(0.01, std::clamp(quality, 0.0, 100.0) / 100.0);
+}
+
+StatusOr<TargetResult> VectorizeForTarget(const Raster& source, const Raster* mask, const VectorizeOptions& options,
+                                          const RateTarget& target, const RateOptions& rate) {
+  const int set = (target.quality >= 0) + (target.bytes > 0) + (target.psnr > 0);
+  if (set != 1)
+    return Status(StatusCode::kInvalidArgument, "rate control needs exactly one of quality, bytes, PSNR; got " +
+                                                    std::to_string(set));
+  if (target.quality > 100)
+    return Status(StatusCode::kInvalidArgument, "quality " + std::to_string(target.quality) + " not in 0..100");
+  if (target.psnr > 0 && !(target.psnr < 200))
+    return Status(StatusCode::kInvalidArgument, "target PSNR must be below 200 dB");
+  TargetResult out;
+  // One run: vectorize at ppv (and target PSNR aim), compress.
+  auto run = [&](double ppv, double aim, double min_psnr) -> Status {
+    VectorizeOptions o = options;
+    o.compression_ratio = ppv;
+    o.max_triangles = options.max_triangles;
+    o.target_psnr = aim;
+    SDVI_ASSIGN_OR_RETURN(out.vectorized, Vectorize(source, mask, o));
+    RateOptions r = rate;
+    r.min_psnr = min_psnr;
+    SDVI_ASSIGN_OR_RETURN(out.file, CompressForRate(out.vectorized, source, mask, o.fit, r));
+    ++out.vectorize_runs;
+    return Status::Ok();
+  };
+
+  if (target.quality >= 0) {
+    SDVI_RETURN_IF_ERROR(run(BudgetForQuality(target.quality), 0, 0));
+    return out;
+  }
+  if (target.bytes > 0) {
+    // Bisection on log(ppv): lo fits (or is the coarsest), hi does not (or is the finest).
+    constexpr double kFinest = 2, kCoarsest = 2000;
+    constexpr int kRuns = 7;
+    double lo = std::log(kCoarsest), hi = std::log(kFinest);
+    SDVI_RETURN_IF_ERROR(run(kCoarsest, 0, 0));
+    if (out.file.file.size() > target.bytes) {
+      out.reached = false;
+      out.note = "even " + std::to_string(int(kCoarsest)) + " pixels per vertex needs " +
+                 std::to_string(out.file.file.size()) + " bytes, more than " + std::to_string(target.bytes);
+      return out;
+    }
+    TargetResult best = out;
+    for (int i = 1; i < kRuns; ++i) {
+      const double mid = i == 1 ? hi : 0.5 * (lo + hi);
+      SDVI_RETURN_IF_ERROR(run(std::exp(mid), 0, 0));
+      if (out.file.file.size() <= target.bytes) {
+        lo = mid;
+        if (out.file.psnr >= best.file.psnr) best = out;
+        if (i == 1) break;  // even the finest budget fits
+      } else {
+        hi = mid;
+      }
+    }
+    best.vectorize_runs = out.vectorize_runs;
+    return best;
+  }
+  // PSNR target: aim the vectorizer higher by the shortfall of the file.
+  double aim = target.psnr;
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    SDVI_RETURN_IF_ERROR(run(options.compression_ratio, aim, target.psnr));
+    if (out.file.psnr >= target.psnr) return out;
+    if (out.vectorized.report.psnr < aim) break;  // the vectorizer itself fell short: budget spent
+    aim += target.psnr - out.file.psnr + 0.05;
+  }
+  out.reached = false;
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "target PSNR %.2f dB not reached: the file has %.2f dB (%u vertices); raise "
+                "the budget (--compression-ratio lower, --iterations higher)",
+                target.psnr, out.file.psnr, unsigned(out.vectorized.image.vertices.size()));
+  out.note = buf;
+  return out;
 }
 
 }  // namespace sdvi

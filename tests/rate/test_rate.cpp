@@ -167,3 +167,66 @@ TEST_CASE("MeasureParts: raw parts are exact and both payloads sum to the file",
   REQUIRE(!bad.ok());
   CHECK(bad.status().message().find("cut.sdvi") != std::string::npos);
 }
+
+TEST_CASE("BudgetForQuality: 400 px per vertex at 0, 40 at 50, 4 at 100, strictly decreasing", "[rate]") {
+  CHECK(sdvi::BudgetForQuality(0) == Approx(400));
+  CHECK(sdvi::BudgetForQuality(50) == Approx(40));
+  CHECK(sdvi::BudgetForQuality(100) == Approx(4));
+  for (int q = 1; q <= 100; ++q) CHECK(sdvi::BudgetForQuality(q) < sdvi::BudgetForQuality(q - 1));
+}
+
+TEST_CASE("VectorizeForTarget needs exactly one valid target", "[rate]") {
+  sdvi::Raster source;
+  Sample(&source);
+  const sdvi::VectorizeOptions options;
+  sdvi::RateTarget none, two, bad;
+  two.quality = 50;
+  two.bytes = 1000;
+  bad.quality = 101;
+  for (const auto& t : {none, two, bad}) {
+    auto r = sdvi::VectorizeForTarget(source, nullptr, options, t, {});
+    REQUIRE(!r.ok());
+    CHECK(r.status().code() == sdvi::StatusCode::kInvalidArgument);
+  }
+}
+
+TEST_CASE("a byte target is met by the file, or reported as not reached", "[rate]") {
+  sdvi::Raster source;
+  Sample(&source);
+  sdvi::VectorizeOptions options;
+  sdvi::RateTarget target;
+  target.bytes = 2500;
+  auto r = sdvi::VectorizeForTarget(source, nullptr, options, target, {});
+  REQUIRE(r.ok());
+  CHECK(r->reached);
+  CHECK(r->file.file.size() <= target.bytes);
+  CHECK(r->vectorize_runs >= 2);
+  target.bytes = 10;  // below any file
+  auto tiny = sdvi::VectorizeForTarget(source, nullptr, options, target, {});
+  REQUIRE(tiny.ok());
+  CHECK(!tiny->reached);
+  CHECK(tiny->file.file.size() > 10);
+  CHECK(tiny->note.find("more than 10") != std::string::npos);
+}
+
+TEST_CASE("a PSNR target is reached by the file's PSNR, or reported as not reached", "[rate]") {
+  sdvi::Raster source;
+  Sample(&source);
+  sdvi::VectorizeOptions options;
+  options.compression_ratio = 10;
+  sdvi::RateTarget target;
+  target.psnr = 28;
+  auto r = sdvi::VectorizeForTarget(source, nullptr, options, target, {});
+  REQUIRE(r.ok());
+  CHECK(r->reached);
+  CHECK(r->file.psnr >= 28);
+  auto again = sdvi::FileQualityPsnr(r->file.decoded, source, 1);
+  REQUIRE(again.ok());
+  CHECK(*again == r->file.psnr);
+  target.psnr = 95;
+  auto high = sdvi::VectorizeForTarget(source, nullptr, options, target, {});
+  REQUIRE(high.ok());
+  CHECK(!high->reached);
+  CHECK(high->file.psnr < 95);
+  CHECK(high->note.find("not reached") != std::string::npos);
+}

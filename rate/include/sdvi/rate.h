@@ -23,6 +23,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "sdvi/image.h"
@@ -34,6 +35,7 @@ namespace sdvi {
 
 struct RateOptions {
   double slope_db = 0;        // s of the header comment; 0 = from the vectorizer's history
+  double min_psnr = 0;        // the search never accepts a candidate below this PSNR (dB)
   bool refit_colors = true;   // refit colours on the quantised positions
   bool search_bits = true;    // false: the conservative steps only (v1 `--compress`)
   int max_steps = 8;          // bit reductions tried per attribute at most
@@ -63,5 +65,39 @@ StatusOr<double> FileQualityPsnr(const Image& decoded, const Raster& source, int
 StatusOr<RateResult> CompressForRate(const VectorizeResult& vectorized, const Raster& source,
                                      const Raster* mask, const ColorFitOptions& fit,
                                      const RateOptions& options);
+
+// ---- Targets a user sets (spec/RATE.md 4) ---------------------------------------------
+
+// Pixels per vertex for a quality 0..100: 400 x (1/100)^(quality/100), i.e. 400 at 0, 40 at
+// 50, 4 at 100; strictly decreasing, so a higher quality never gets fewer vertices.
+double BudgetForQuality(double quality);
+
+struct RateTarget {
+  double quality = -1;        // 0..100; < 0: unset
+  uint64_t bytes = 0;         // the file must not exceed this; 0: unset
+  double psnr = 0;            // dB the file's PSNR (section 1) must reach; 0: unset
+};
+
+struct TargetResult {
+  VectorizeResult vectorized;
+  RateResult file;
+  bool reached = true;        // the target was met
+  std::string note;           // why not, for the warning and the report
+  int vectorize_runs = 0;
+};
+
+// Vectorizes source and compresses it to meet target (exactly one of its fields set):
+//  quality: the budget BudgetForQuality(q), then CompressForRate;
+//  bytes: bisection on the budget (log pixels per vertex in [2, 2000], 7 runs) for the most
+//    vertices whose file fits; not reached when even 2000 pixels per vertex does not fit (the
+//    smallest file is returned);
+//  psnr: Vectorize with target_psnr, CompressForRate with min_psnr; when the file falls short
+//    the vectorizer runs again aiming higher by the shortfall (at most 3 runs); not reached
+//    when the last file is still short (it is returned).
+// options.compression_ratio / target_psnr are replaced as above. Errors: kInvalidArgument
+// (no target, several, or out of range), the errors of Vectorize and CompressForRate.
+StatusOr<TargetResult> VectorizeForTarget(const Raster& source, const Raster* mask,
+                                          const VectorizeOptions& options, const RateTarget& target,
+                                          const RateOptions& rate);
 
 }  // namespace sdvi
