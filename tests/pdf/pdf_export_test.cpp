@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <map>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -215,8 +216,12 @@ void CheckShadingIsSurface(const Image& image, const PdfExportOptions& options) 
   CHECK(exported->triangles == refined->triangles.size());
   CHECK(exported->vertices == refined->vertices.size());
 
+  // Two zero-area guard triangles first (spec/PDF.md), then the surface.
   const auto triangles = DecodedTriangles(back.vertices);
-  CHECK(triangles.size() == refined->triangles.size());
+  REQUIRE(triangles.size() == refined->triangles.size() + 2);
+  for (int g = 0; g < 2; ++g) {
+    CHECK(Area(triangles[g][0], triangles[g][1], triangles[g][2]) == 0);
+  }
   double area = 0, expected_area = 0;
   for (const auto& t : triangles) area += Area(t[0], t[1], t[2]);
   for (const Triangle& t : refined->triangles) {
@@ -224,9 +229,14 @@ void CheckShadingIsSurface(const Image& image, const PdfExportOptions& options) 
     for (int k = 0; k < 3; ++k) p[k].x = refined->vertices[t.v[k]].x, p[k].y = refined->vertices[t.v[k]].y;
     expected_area += Area(p[0], p[1], p[2]);
   }
-  CHECK(area == Approx(expected_area).epsilon(1e-4));
+  // Quantisation moves each vertex by at most one step (a full step on the bounding box's
+  // sides, which round outwards), so the area by at most perimeter x step.
+  const double max_step = std::max((back.decode[1] - back.decode[0]), (back.decode[3] - back.decode[2])) /
+                          (std::pow(2.0, back.numbers.at("/BitsPerCoordinate")) - 1);
+  CHECK(std::abs(area - expected_area) <= 2 * (image.width + image.height) * max_step + 1e-6 * expected_area);
 
-  // Decode ranges: the surface's extent and colour range (clamped to 0..255).
+  // Decode ranges: the surface's extent (grown by the guard margin on the left, right and
+  // bottom) and colour range (clamped to 0..255).
   const int bc = int(back.numbers.at("/BitsPerCoordinate"));
   const double step_x = (back.decode[1] - back.decode[0]) / (std::pow(2.0, bc) - 1);
   const double step_y = (back.decode[3] - back.decode[2]) / (std::pow(2.0, bc) - 1);
@@ -238,7 +248,12 @@ void CheckShadingIsSurface(const Image& image, const PdfExportOptions& options) 
                               std::clamp(v.g, 0.0f, 255.0f) / 255.0, std::clamp(v.b, 0.0f, 255.0f) / 255.0};
     for (int k = 0; k < 5; ++k) lo[k] = std::min(lo[k], values[k]), hi[k] = std::max(hi[k], values[k]);
   }
-  for (int k = 0; k < 5; ++k) {
+  const double margin = std::max(2.0, 0.01 * std::max(hi[0] - lo[0], hi[1] - lo[1]));
+  CHECK(back.decode[0] == Approx(lo[0] - margin).margin(1e-3));
+  CHECK(back.decode[1] == Approx(hi[0] + margin).margin(1e-3));
+  CHECK(back.decode[2] == Approx(lo[1]).margin(1e-3));
+  CHECK(back.decode[3] == Approx(hi[1] + margin).margin(1e-3));
+  for (int k = 2; k < 5; ++k) {
     CHECK(back.decode[2 * k] == Approx(lo[k]).margin(1e-4));
     if (hi[k] > lo[k]) CHECK(back.decode[2 * k + 1] == Approx(hi[k]).margin(1e-4));
   }
@@ -252,8 +267,9 @@ void CheckShadingIsSurface(const Image& image, const PdfExportOptions& options) 
     CHECK(seen_hi[k] == Approx(hi[2 + k]).margin(color_step));
   }
 
-  // Every fine vertex appears in the stream, quantised by at most half a step (+ float
-  // noise of the stencil evaluation).
+  // Every fine vertex appears in the stream, quantised by at most half a step (a full step
+  // on the bounding box's sides, which round outwards; + float noise of the stencil
+  // evaluation).
   std::map<std::pair<long, long>, std::vector<const DecodedVertex*>> grid;
   for (const DecodedVertex& v : back.vertices) {
     grid[{std::lround((v.x - back.decode[0]) / step_x), std::lround((v.y - back.decode[2]) / step_y)}].push_back(&v);
@@ -269,7 +285,9 @@ void CheckShadingIsSurface(const Image& image, const PdfExportOptions& options) 
         for (const DecodedVertex* v : it->second) {
           const double colour[3] = {std::clamp(f.r, 0.0f, 255.0f) / 255.0, std::clamp(f.g, 0.0f, 255.0f) / 255.0,
                                     std::clamp(f.b, 0.0f, 255.0f) / 255.0};
-          bool same = std::abs(v->x - f.x) <= 0.5 * step_x + 1e-3 && std::abs(v->y - f.y) <= 0.5 * step_y + 1e-3;
+          const bool side_x = f.x <= lo[0] || f.x >= hi[0], side_y = f.y <= lo[1] || f.y >= hi[1];
+          bool same = std::abs(v->x - f.x) <= (side_x ? 1.0 : 0.5) * step_x + 1e-3 &&
+                      std::abs(v->y - f.y) <= (side_y ? 1.0 : 0.5) * step_y + 1e-3;
           for (int k = 0; k < 3; ++k) {
             const double span = back.decode[5 + 2 * k] - back.decode[4 + 2 * k];
             same = same && std::abs(v->c[k] - colour[k]) <= 0.5 * span * color_step + 1e-4;
@@ -316,12 +334,25 @@ TEST_CASE("An object image is clipped to its domain: one subpath per boundary lo
   CHECK(count(" m\n") == 2);  // outer edge and the hole
   CHECK(count("\nh\n") == 2);
   CHECK(content.find("W* n\n/Sh0 sh") != std::string::npos);
-  // A full-frame image: the frame, its collinear boundary points merged into 4 corners.
+  // A full-frame image: the frame, its collinear boundary points merged into 4 corners,
+  // rounded outwards (at most one 16-bit step, 0.0016 px here, outside the frame).
   auto frame = EncodePdf(pdf_test::Gradient(96, 64), PdfExportOptions{});
   REQUIRE(frame.ok());
   const std::string frame_content = ReadPdf(frame->bytes).content;
-  CHECK(std::count(frame_content.begin(), frame_content.end(), '\n') <= 12);
-  CHECK(frame_content.find("0 0 m\n") != std::string::npos);
+  std::vector<double> corners;
+  {
+    std::istringstream in(frame_content.substr(frame_content.find(" cm\n") + 4));
+    std::string token;
+    while (in >> token && token != "W*") {
+      if (token != "m" && token != "l" && token != "h") corners.push_back(std::stod(token));
+    }
+  }
+  REQUIRE(corners.size() == 8);
+  for (size_t i = 0; i < 8; i += 2) {
+    const double x = corners[i], y = corners[i + 1];
+    CHECK(((x <= 0 && x > -0.002) || (x >= 96 && x < 96.002)));
+    CHECK(((y <= 0 && y > -0.002) || (y >= 64 && y < 64.002)));
+  }
 }
 
 TEST_CASE("Page size from dpi or width, background, metadata", "[pdf]") {

@@ -1,39 +1,68 @@
 #!/usr/bin/env bash
-# ctest pdf_viewers: real PDF viewers draw the export like `sdvi render` draws the .sdvi.
-# For a full-frame image and an object image with a hole, at the image's size and at x4:
-#   pdftoppm (poppler, over white), pdftocairo -transp (poppler's cairo backend, RGBA) and
-#   mutool draw (MuPDF, RGBA)
-# each must reach PSNR >= 35 dB against `sdvi render` of the same .sdvi at the same size
-# (over the pixels both draw opaque), and the RGBA renders must leave the outside of the
-# domain transparent and agree with sdvi's alpha on all but 1% of the domain's pixels.
-#   viewer_test.sh SDVI FIXTURE WORK_DIR
-# Exit 77 (ctest SKIP) only when a viewer is missing (poppler-utils, mupdf-tools).
+# ctest pdf_viewers / pdf_viewer_pdfjs: real PDF viewers draw the export like `sdvi render`
+# draws the .sdvi. For a full-frame image and an object image with a hole, at the image's
+# size and at x4, each viewer's drawing must reach PSNR >= 35 dB against `sdvi render` of
+# the same .sdvi at the same size (over the pixels both draw opaque), and the RGBA drawings
+# must leave the outside of the domain transparent and agree with sdvi's alpha everywhere
+# but within one pixel of the domain's edge.
+#   viewer_test.sh SDVI FIXTURE WORK_DIR native      pdftoppm (poppler, over white),
+#                                                   pdftocairo -transp (poppler's cairo
+#                                                   backend), mutool draw (MuPDF)
+#   viewer_test.sh SDVI FIXTURE WORK_DIR pdfjs ROOT  pdf.js in headless Chromium
+#                                                   (scripts/pdf_viewer.mjs)
+# Exit 77 (ctest SKIP) only when a viewer is missing (poppler-utils, mupdf-tools; node,
+# scripts/npm's pdfjs-dist and playwright-core, chromium).
 set -u
-sdvi=$1 fixture=$2 work=$3
+sdvi=$1 fixture=$2 work=$3 kind=$4 root=${5:-}
 min_psnr=35
-for tool in pdftoppm pdftocairo mutool; do
-  command -v $tool >/dev/null 2>&1 ||
-    { echo "SKIP: $tool is not installed (Debian packages poppler-utils, mupdf-tools)"; exit 77; }
-done
+if [ "$kind" = native ]; then
+  viewers=(pdftoppm pdftocairo mutool)
+  for tool in "${viewers[@]}"; do
+    command -v $tool >/dev/null 2>&1 ||
+      { echo "SKIP: $tool is not installed (Debian packages poppler-utils, mupdf-tools)"; exit 77; }
+  done
+else
+  viewers=(pdfjs)
+  command -v node >/dev/null 2>&1 || { echo "SKIP: node is not installed"; exit 77; }
+  for pkg in pdfjs-dist playwright-core; do
+    [ -f "$root/scripts/npm/node_modules/$pkg/package.json" ] ||
+      { echo "SKIP: npm package $pkg missing: run npm install in scripts/npm"; exit 77; }
+  done
+  [ -x "${SDVI_CHROMIUM:-/usr/bin/chromium}" ] || { echo "SKIP: no Chromium (Debian package chromium)"; exit 77; }
+fi
 rm -rf "$work" && mkdir -p "$work" || exit 1
 
-status=0
+cases=()
+pdfjs_args=()
 for spec in "gradient 96 64" "annulus 80 60"; do
-  read -r kind w h <<<"$spec"
-  "$fixture" sdvi "$kind" "$w" "$h" "$work/$kind.sdvi" || { echo "FAIL: fixture $kind"; exit 1; }
-  "$fixture" pdf "$work/$kind.sdvi" "$work/$kind.pdf" >/dev/null || { echo "FAIL: export $kind"; exit 1; }
+  read -r image w h <<<"$spec"
+  "$fixture" sdvi "$image" "$w" "$h" "$work/$image.sdvi" || { echo "FAIL: fixture $image"; exit 1; }
+  "$fixture" pdf "$work/$image.sdvi" "$work/$image.pdf" >/dev/null || { echo "FAIL: export $image"; exit 1; }
   for scale in 1 4; do
-    ow=$((w * scale)) oh=$((h * scale)) base="$work/${kind}_x$scale"
-    "$sdvi" render "$work/$kind.sdvi" -o "${base}_sdvi.png" --width $ow --height $oh >/dev/null ||
-      { echo "FAIL: sdvi render $kind x$scale"; exit 1; }
-    pdftoppm -png -singlefile -scale-to-x $ow -scale-to-y $oh "$work/$kind.pdf" "${base}_pdftoppm" &&
-    pdftocairo -png -singlefile -transp -scale-to-x $ow -scale-to-y $oh "$work/$kind.pdf" "${base}_pdftocairo" &&
-    mutool draw -q -c rgba -w $ow -h $oh -o "${base}_mutool.png" "$work/$kind.pdf" 1 ||
-      { echo "FAIL: a viewer could not draw $work/$kind.pdf"; exit 1; }
-    for viewer in pdftoppm pdftocairo mutool; do
-      printf '%s x%d %s: ' "$kind" $scale $viewer
-      "$fixture" compare "${base}_$viewer.png" "${base}_sdvi.png" $min_psnr || status=1
-    done
+    ow=$((w * scale)) oh=$((h * scale)) base="$work/${image}_x$scale"
+    "$sdvi" render "$work/$image.sdvi" -o "${base}_sdvi.png" --width $ow --height $oh >/dev/null ||
+      { echo "FAIL: sdvi render $image x$scale"; exit 1; }
+    cases+=("$image $scale")
+    if [ "$kind" = native ]; then
+      pdftoppm -png -singlefile -scale-to-x $ow -scale-to-y $oh "$work/$image.pdf" "${base}_pdftoppm" &&
+      pdftocairo -png -singlefile -transp -scale-to-x $ow -scale-to-y $oh "$work/$image.pdf" "${base}_pdftocairo" &&
+      mutool draw -q -c rgba -w $ow -h $oh -o "${base}_mutool.png" "$work/$image.pdf" 1 ||
+        { echo "FAIL: a viewer could not draw $work/$image.pdf"; exit 1; }
+    else
+      pdfjs_args+=(--scale $scale "$work/$image.pdf" -o "${base}_pdfjs.png")
+    fi
+  done
+done
+if [ "$kind" = pdfjs ]; then
+  node "$root/scripts/pdf_viewer.mjs" "${pdfjs_args[@]}" >/dev/null || { echo "FAIL: pdf.js"; exit 1; }
+fi
+
+status=0
+for c in "${cases[@]}"; do
+  read -r image scale <<<"$c"
+  for viewer in "${viewers[@]}"; do
+    printf '%s x%d %s: ' "$image" $scale $viewer
+    "$fixture" compare "$work/${image}_x${scale}_$viewer.png" "$work/${image}_x${scale}_sdvi.png" $min_psnr || status=1
   done
 done
 exit $status

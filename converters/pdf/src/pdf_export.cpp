@@ -219,10 +219,15 @@ class BitWriter {
 };
 
 // value in [lo, hi] -> 0 .. 2^bits - 1 (the inverse of the Decode mapping).
-uint64_t Quantise(double value, double lo, double hi, int bits) {
+enum class Rounding { kNearest, kDown, kUp };
+
+uint64_t Quantise(double value, double lo, double hi, int bits, Rounding rounding = Rounding::kNearest) {
   const double max_code = double((uint64_t(1) << bits) - 1);
   if (!(hi > lo)) return 0;
-  const double q = std::round((value - lo) / (hi - lo) * max_code);
+  const double exact = (value - lo) / (hi - lo) * max_code;
+  const double q = rounding == Rounding::kDown ? std::floor(exact)
+                   : rounding == Rounding::kUp ? std::ceil(exact)
+                                               : std::round(exact);
   return uint64_t(std::clamp(q, 0.0, max_code));
 }
 
@@ -255,18 +260,48 @@ std::array<double, 10> DecodeRange(const std::vector<Vertex>& fine) {
   return d;
 }
 
+// The two guard vertices: the bottom corners of the surface's bounding box grown by
+// kGuardMargin (at least 2 source pixels, 1% of the larger side), with the colour of fine
+// vertex 0. Each is repeated three times as a zero-area triangle painted before the surface
+// and outside the clip, so it shows nowhere; it only widens the mesh's bounds, which pdf.js
+// rasterises into a canvas of exactly that size and where spans ending on the right bound
+// spill into column 0 of the next row (spec/PDF.md, "Guard triangles").
+std::array<Vertex, 2> GuardVertices(const std::vector<Vertex>& fine, const std::array<float, 4>& box) {
+  const auto [x0, x1, y0, y1] = box;
+  const float margin = std::max(2.0f, 0.01f * std::max(x1 - x0, y1 - y0));
+  const Vertex& c = fine[0];
+  return {Vertex{x0 - margin, y1 + margin, c.r, c.g, c.b}, Vertex{x1 + margin, y1 + margin, c.r, c.g, c.b}};
+}
+
+// The surface's bounding box: x0, x1, y0, y1.
+std::array<float, 4> BoundingBox(const std::vector<Vertex>& fine) {
+  std::array<float, 4> box = {fine[0].x, fine[0].x, fine[0].y, fine[0].y};
+  for (const Vertex& v : fine) {
+    box[0] = std::min(box[0], v.x), box[1] = std::max(box[1], v.x);
+    box[2] = std::min(box[2], v.y), box[3] = std::max(box[3], v.y);
+  }
+  return box;
+}
+
 // A fine vertex as the reader will see it: quantised and decoded.
 struct QuantisedVertex {
   uint64_t code[5];
   double x, y;
 };
 
-QuantisedVertex QuantiseVertex(const Vertex& v, const std::array<double, 10>& d, int coord_bits,
-                               int color_bits) {
+// Coordinates round to the nearest code, except on the sides of the surface's bounding box
+// `box` (x0, x1, y0, y1), where they round outwards: a full-frame image then covers its whole
+// frame even in viewers that sample pixels half a pixel off (MuPDF) and whose last column
+// or row would otherwise fall just outside the mesh.
+QuantisedVertex QuantiseVertex(const Vertex& v, const std::array<double, 10>& d,
+                               const std::array<float, 4>& box, int coord_bits, int color_bits) {
   QuantisedVertex q;
   const double values[5] = {v.x, v.y, ColorFraction(v.r), ColorFraction(v.g), ColorFraction(v.b)};
   for (int k = 0; k < 5; ++k) {
-    q.code[k] = Quantise(values[k], d[2 * k], d[2 * k + 1], k < 2 ? coord_bits : color_bits);
+    Rounding rounding = Rounding::kNearest;
+    if (k < 2 && values[k] <= box[2 * k]) rounding = Rounding::kDown;
+    if (k < 2 && values[k] >= box[2 * k + 1]) rounding = Rounding::kUp;
+    q.code[k] = Quantise(values[k], d[2 * k], d[2 * k + 1], k < 2 ? coord_bits : color_bits, rounding);
   }
   q.x = Dequantise(q.code[0], d[0], d[1], coord_bits);
   q.y = Dequantise(q.code[1], d[2], d[3], coord_bits);
@@ -557,7 +592,11 @@ StatusOr<PdfExport> EncodePdfOrThrow(const Image& image, const PdfExportOptions&
   result.vertices = uint32_t(fine.size());
   result.triangles = uint32_t(surface.triangles.size());
 
-  result.decode = DecodeRange(fine);
+  // Fine vertices, then the two guard vertices.
+  const std::array<float, 4> box = BoundingBox(fine);
+  std::vector<Vertex> points = fine;
+  for (const Vertex& g : GuardVertices(fine, box)) points.push_back(g);
+  result.decode = DecodeRange(points);
   result.bits_per_component = options.color_bits;
   result.bits_per_coordinate =
       options.coordinate_bits > 0
@@ -568,13 +607,17 @@ StatusOr<PdfExport> EncodePdfOrThrow(const Image& image, const PdfExportOptions&
   // Decode bounds are written with 9 decimals: quantise against exactly those values.
   for (double& d : result.decode) d = std::stod(Number(d, 9));
   std::vector<QuantisedVertex> quantised;
-  quantised.reserve(fine.size());
-  for (const Vertex& v : fine) {
-    quantised.push_back(QuantiseVertex(v, result.decode, result.bits_per_coordinate,
+  quantised.reserve(points.size());
+  for (const Vertex& v : points) {
+    quantised.push_back(QuantiseVertex(v, result.decode, box, result.bits_per_coordinate,
                                        result.bits_per_component));
   }
 
-  const std::vector<ShadingRecord> records = TriangleStrips(surface.triangles);
+  std::vector<ShadingRecord> records;
+  for (uint32_t guard : {result.vertices, result.vertices + 1}) {
+    records.insert(records.end(), 3, ShadingRecord{0, guard});
+  }
+  for (const ShadingRecord& r : TriangleStrips(surface.triangles)) records.push_back(r);
   result.records = uint32_t(records.size());
   result.strips = 0;
   for (size_t i = 0; i < records.size(); ++i) {

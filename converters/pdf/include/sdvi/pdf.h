@@ -12,6 +12,8 @@
 //              size (step <= 1/64 source pixel), colours with 8 bits per component; the
 //              Decode array spans exactly the surface's range;
 //   colour     DeviceRGB holding the sRGB values of sdvi::Image (see spec/PDF.md);
+//   guards     two zero-area triangles below the surface's bounding box, outside the clip
+//              (they work around pdf.js's mesh rasteriser, see spec/PDF.md);
 //   clip       the domain's boundary (outer edge and holes, even-odd), so outside an object
 //              image's domain the page stays transparent;
 //   page       the source size at `dpi` (72 dpi: 1 source pixel = 1 pt), or `width_mm`.
@@ -55,12 +57,14 @@ struct PdfExport {
   int levels = 0;                  // the level r used
   uint32_t vertices = 0;           // fine vertices of the surface
   uint32_t triangles = 0;          // fine triangles = triangles of the shading
-  uint32_t records = 0;            // vertex records in the shading stream
-  uint32_t strips = 0;             // records with flag 0 / 3 (strips started)
+  uint32_t records = 0;            // vertex records in the shading stream (6 guard records,
+                                   // then the surface's strips; spec/PDF.md)
+  uint32_t strips = 0;             // flag-0 triples (the 2 guard triangles and the strips)
   int bits_per_coordinate = 0;
   int bits_per_component = 0;
   int bits_per_flag = 0;
-  std::array<double, 10> decode{}; // the shading's Decode array: x, y (source px), r, g, b (0..1)
+  std::array<double, 10> decode{}; // the shading's Decode array: x, y (source px, including the
+                                   // guard vertices), r, g, b (0..1)
   double page_width_pt = 0, page_height_pt = 0;
   uint64_t shading_bytes = 0;      // the compressed shading stream
   uint64_t shading_raw_bytes = 0;  // the same before Flate
