@@ -352,7 +352,7 @@ TEST_CASE("the feature list and the overlay show every feature", "[edit][feature
   CHECK(boundaries == 1);  // the image rectangle
   CHECK(sides == 2);
   const Raster render = RenderAt(image);
-  const Raster overlay = DrawFeatureOverlay(render, image, 1.0);
+  const Raster overlay = DrawFeatureOverlay(render, image, Viewport::Identity(64, 48));
   REQUIRE(overlay.width == 64);
   REQUIRE(overlay.channels == 3);
   // The pair's lines are drawn: pixels on its left side are no longer the flat 40 grey.

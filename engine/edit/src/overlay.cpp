@@ -36,27 +36,31 @@ Raster FromBgr(const cv::Mat& m) {
   return out;
 }
 
-// Fixed-point (4 fractional bits) pixel position of control point v at the given scale.
-cv::Point At(const Vertex& v, double scale) {
-  return {int(std::lround(v.x * scale * 16)), int(std::lround(v.y * scale * 16))};
+// Output position of control point v through the viewport, in fixed point (4 fractional
+// bits, OpenCV's `shift`) or whole pixels. Pixel (i, j) covers [i, i+1) x [j, j+1), so
+// OpenCV's integer pixel centre i sits at i + 0.5: shift by half a pixel.
+cv::Point At(const Vertex& v, const Viewport& vp, int one = 16) {
+  const double x = (v.x - vp.origin_x) * vp.scale_x - 0.5, y = (v.y - vp.origin_y) * vp.scale_y - 0.5;
+  return {int(std::lround(std::clamp(x, -1e6, 1e6) * one)), int(std::lround(std::clamp(y, -1e6, 1e6) * one))};
 }
 
-void DrawPolyline(cv::Mat& m, const Image& image, const FeaturePolyline& l, double scale, const cv::Scalar& colour) {
+void DrawPolyline(cv::Mat& m, const Image& image, const FeaturePolyline& l, const Viewport& vp,
+                  const cv::Scalar& colour) {
   std::vector<cv::Point> pts;
-  for (uint32_t v : l.vertices) pts.push_back(At(image.vertices[v], scale));
+  for (uint32_t v : l.vertices) pts.push_back(At(image.vertices[v], vp));
   cv::polylines(m, pts, l.closed, colour, 1, cv::LINE_AA, 4);
   for (const cv::Point& p : pts) cv::circle(m, p, 2 * 16, colour, cv::FILLED, cv::LINE_AA, 4);
 }
 
 // The id at the polyline's middle vertex, white on a dark box.
-void Label(cv::Mat& m, const Image& image, const FeaturePolyline& l, double scale, const std::string& text,
+void Label(cv::Mat& m, const Image& image, const FeaturePolyline& l, const Viewport& vp, const std::string& text,
            const cv::Scalar& colour) {
   if (l.vertices.empty()) return;
-  const Vertex& v = image.vertices[l.vertices[l.vertices.size() / 2]];
+  const cv::Point at = At(image.vertices[l.vertices[l.vertices.size() / 2]], vp, 1);
   const double font = 0.4;
   int baseline = 0;
   const cv::Size size = cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, font, 1, &baseline);
-  cv::Point origin(int(std::lround(v.x * scale)) + 3, int(std::lround(v.y * scale)) - 3);
+  cv::Point origin(at.x + 3, at.y - 3);
   origin.x = std::clamp(origin.x, 0, std::max(0, m.cols - size.width));
   origin.y = std::clamp(origin.y, size.height, std::max(size.height, m.rows - baseline));
   cv::rectangle(m, origin + cv::Point(-1, baseline), origin + cv::Point(size.width + 1, -size.height - 1),
@@ -66,7 +70,7 @@ void Label(cv::Mat& m, const Image& image, const FeaturePolyline& l, double scal
 
 }  // namespace
 
-Raster DrawFeatureOverlay(const Raster& picture, const Image& image, double scale) {
+Raster DrawFeatureOverlay(const Raster& picture, const Image& image, const Viewport& viewport) {
   if (picture.empty()) return Raster();
   cv::Mat m = ToBgr(picture);
   const cv::Scalar red(40, 40, 255), green(60, 220, 60), blue(255, 120, 40), yellow(0, 230, 255);
@@ -77,15 +81,15 @@ Raster DrawFeatureOverlay(const Raster& picture, const Image& image, double scal
                               : f.kind == FeatureKind::kPolyline ? yellow
                               : f.sharpness >= 0.5f              ? red
                                                                  : green;
-    DrawPolyline(m, image, l, scale, colour);
+    DrawPolyline(m, image, l, viewport, colour);
   }
   // Labels last, so that no line covers them.
   for (const FeatureInfo& f : ListFeatures(image)) {
     if (f.kind == FeatureKind::kPair)
-      Label(m, image, image.polylines[f.first], scale, std::string("P").append(std::to_string(f.id)),
+      Label(m, image, image.polylines[f.first], viewport, std::string("P").append(std::to_string(f.id)),
             f.sharpness >= 0.5f ? red : green);
     else if (f.kind == FeatureKind::kPolyline)
-      Label(m, image, image.polylines[f.id], scale, std::string("L").append(std::to_string(f.id)), yellow);
+      Label(m, image, image.polylines[f.id], viewport, std::string("L").append(std::to_string(f.id)), yellow);
   }
   return FromBgr(m);
 }

@@ -32,6 +32,7 @@
 #include "sdvi/features.h"
 #include "sdvi/image.h"
 #include "sdvi/raster.h"
+#include "sdvi/render.h"
 #include "sdvi/status.h"
 
 namespace sdvi {
@@ -184,11 +185,11 @@ StatusOr<Image> ApplyEdits(const Image& image, const std::vector<EditStep>& step
 
 // ---- A picture for picking features ----
 
-// picture (a render of image, RGB or RGBA 0..255, any size: scale = picture px per image
-// px) with every feature polyline drawn over it (pair sides red when the pair's sharpness
-// is >= 0.5, else green; boundary blue; other polylines yellow), deBoor points as dots, and
-// each feature's id at its middle: "P<id>" for a pair, "L<id>" for an unpaired polyline.
-// Returns RGB.
-Raster DrawFeatureOverlay(const Raster& picture, const Image& image, double scale);
+// picture (a render of image through viewport, RGB or RGBA 0..255; pixels outside the
+// domain, alpha 0, show mid grey) with every feature polyline drawn over it (pair sides red
+// when the pair's sharpness is >= 0.5, else green; boundary blue; other polylines yellow),
+// deBoor points as dots, and each feature's id at its middle vertex: "P<id>" for a pair,
+// "L<id>" for an unpaired, non-boundary polyline. Returns RGB of picture's size.
+Raster DrawFeatureOverlay(const Raster& picture, const Image& image, const Viewport& viewport);
 
 }  // namespace sdvi
