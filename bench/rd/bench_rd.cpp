@@ -26,11 +26,12 @@
 // start included) on each codec's file at the same PSNR.
 //
 //   bench_rd [--data DIR] [--out DIR] [--only SUBSTRING] [--class photos|graphics] [--budgets 10,25,50,100,200]
-//            [--threads N] [--baseline] [--no-plots]
+//            [--threads N] [--baseline] [--no-plots] [--parts]
 //
 // sdvi files per budget (one vectorization): v1 = Draco at the steps v1 `vectorize --compress`
 // used (1% of the fit's MSE), rd = what `vectorize --compress` writes now (CompressForRate,
-// sdvi/rate.h). --baseline: v1 only (the BEFORE table).
+// sdvi/rate.h). --baseline: v1 only (the BEFORE table). --parts: each sdvi file's bytes by
+// part (MeasureParts) under its row.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -563,7 +564,7 @@ int main(int argc, char** argv) {
   std::string only, only_class;
   std::vector<double> budgets = {10, 25, 50, 100, 200};
   int threads = 2;
-  bool baseline = false, plots = true;
+  bool baseline = false, plots = true, parts = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -580,6 +581,7 @@ int main(int argc, char** argv) {
     else if (a == "--threads") threads = std::atoi(next().c_str());
     else if (a == "--baseline") baseline = true;
     else if (a == "--no-plots") plots = false;
+    else if (a == "--parts") parts = true;
     else if (a == "--budgets") {
       budgets.clear();
       std::stringstream list(next());
@@ -587,7 +589,7 @@ int main(int argc, char** argv) {
     } else {
       std::fprintf(stderr,
                    "usage: bench_rd [--data DIR] [--out DIR] [--only SUBSTRING] [--class photos|graphics] [--budgets 10,25,50,100,200] "
-                   "[--threads N] [--baseline] [--no-plots]\n");
+                   "[--threads N] [--baseline] [--no-plots] [--parts]\n");
       return 1;
     }
   }
@@ -675,6 +677,15 @@ int main(int argc, char** argv) {
           std::printf("%-8s %-30s %4g %-3s %6u %7.0f %6.3f %6.2f %7.2f | %15s %15s %15s %15s\n", kind.c_str(),
                       name.c_str(), ppv, variants[v].c_str(), s.vertices, s.bytes, 8 * s.bytes / pixels, s.psnr,
                       s.fit_psnr, cells[0].c_str(), cells[1].c_str(), cells[2].c_str(), cells[3].c_str());
+          if (parts) {
+            auto p = sdvi::MeasureParts(s.file, name);
+            if (p.ok())
+              std::printf("  bytes by part: connectivity %llu, positions %llu, colours %llu, tags %llu, "
+                          "feature layer %llu, container %llu\n",
+                          (unsigned long long)p->connectivity, (unsigned long long)p->positions,
+                          (unsigned long long)p->colors, (unsigned long long)p->tags,
+                          (unsigned long long)p->feature_layer, (unsigned long long)p->container);
+          }
           std::fflush(stdout);
         }
       }
