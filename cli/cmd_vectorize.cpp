@@ -119,37 +119,82 @@ Status VectorizeCommand(const Args& args) {
   }
   const double load_seconds = std::chrono::duration<double>(Clock::now() - load_start).count();
 
+  // Rate targets (spec/RATE.md 4): --quality and --target-bytes imply --compress.
+  RateTarget target;
+  SDVI_ASSIGN_OR_RETURN(target.quality, args.GetDouble("--quality", -1));
+  SDVI_ASSIGN_OR_RETURN(const double target_bytes, args.GetDouble("--target-bytes", 0));
+  if (args.get("--quality") && !(target.quality >= 0 && target.quality <= 100))
+    return Status(StatusCode::kInvalidArgument, "--quality must be in 0..100");
+  if (args.get("--target-bytes") && !(target_bytes >= 1 && target_bytes < 1e15))
+    return Status(StatusCode::kInvalidArgument, "--target-bytes must be a positive byte count");
+  target.bytes = uint64_t(target_bytes);
+  if (int(args.get("--quality").has_value()) + int(args.get("--target-bytes").has_value()) +
+          int(options.target_psnr > 0) > 1)
+    return Status(StatusCode::kInvalidArgument, "choose one of --quality, --target-bytes, --target-psnr");
+  const bool compress = args.flag("--compress") || args.get("--quality") || args.get("--target-bytes");
+  const Raster* mask_ptr = mask_path ? &mask : nullptr;
+
   Progress progress(args.flag("--quiet"));
   options.progress = &progress;
-  StatusOr<VectorizeResult> vectorized = sdvi::Vectorize(raster, mask_path ? &mask : nullptr, options);
-  if (!vectorized.ok()) {
-    const Status& s = vectorized.status();
-    return Status(s.code(), input + ": " + s.message());
-  }
-  VectorizeResult& result = *vectorized;
-  result.report.seconds.load = load_seconds;
-
-  // The file and its one PSNR (spec/RATE.md): the x1 render of what a reader decodes.
-  const double fit_psnr = result.report.psnr;
+  RateOptions rate;
+  rate.threads = options.threads;
+  // The file and its one PSNR (spec/RATE.md 1): the x1 render of what a reader decodes.
+  VectorizeResult result;
+  std::vector<uint8_t> bytes;
+  double file_psnr = 0;
+  bool reached = true;
+  std::string note;
   nlohmann::json rate_report;
-  if (args.flag("--compress")) {
-    // Quantisation chosen by rate-distortion, colours refitted on the quantised positions.
-    RateOptions rate;
-    rate.threads = options.threads;
-    SDVI_ASSIGN_OR_RETURN(RateResult compressed,
-                          CompressForRate(result, raster, mask_path ? &mask : nullptr, options.fit, rate));
-    SDVI_RETURN_IF_ERROR(WriteFileAtomic(*output, compressed.file.data(), compressed.file.size()));
-    result.report.psnr = compressed.psnr;
-    rate_report = {{"position_bits", compressed.position_bits},
-                   {"color_bits", compressed.color_bits},
-                   {"slope_db", compressed.slope_db},
-                   {"candidates", compressed.evaluations}};
+  auto named = [&](const Status& s) { return s.ok() ? s : Status(s.code(), input + ": " + s.message()); };
+  if (compress) {
+    RateResult compressed;
+    if (args.get("--quality") || args.get("--target-bytes") || options.target_psnr > 0) {
+      if (options.target_psnr > 0) target.psnr = options.target_psnr;
+      StatusOr<TargetResult> t = VectorizeForTarget(raster, mask_ptr, options, target, rate);
+      if (!t.ok()) return named(t.status());
+      result = std::move(t->vectorized);
+      compressed = std::move(t->file);
+      reached = t->reached;
+      note = t->note;
+      rate_report["vectorize_runs"] = t->vectorize_runs;
+    } else {
+      StatusOr<VectorizeResult> v = sdvi::Vectorize(raster, mask_ptr, options);
+      if (!v.ok()) return named(v.status());
+      result = std::move(*v);
+      StatusOr<RateResult> c = CompressForRate(result, raster, mask_ptr, options.fit, rate);
+      if (!c.ok()) return named(c.status());
+      compressed = std::move(*c);
+    }
+    bytes = std::move(compressed.file);
+    file_psnr = compressed.psnr;
+    rate_report["position_bits"] = compressed.position_bits;
+    rate_report["color_bits"] = compressed.color_bits;
+    rate_report["slope_db"] = compressed.slope_db;
+    rate_report["candidates"] = compressed.evaluations;
   } else {
-    SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, EncodeImage(result.image, nullptr, *output));
+    StatusOr<VectorizeResult> v = sdvi::Vectorize(raster, mask_ptr, options);
+    if (!v.ok()) return named(v.status());
+    result = std::move(*v);
+    SDVI_ASSIGN_OR_RETURN(bytes, EncodeImage(result.image, nullptr, *output));
     SDVI_ASSIGN_OR_RETURN(Image decoded, DecodeImage(bytes, *output));
-    SDVI_RETURN_IF_ERROR(WriteFileAtomic(*output, bytes));
-    SDVI_ASSIGN_OR_RETURN(result.report.psnr, FileQualityPsnr(decoded, raster, options.threads));
+    SDVI_ASSIGN_OR_RETURN(file_psnr, FileQualityPsnr(decoded, raster, options.threads));
+    if (options.target_psnr > 0 && file_psnr < options.target_psnr) {
+      reached = false;
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "target PSNR %.2f dB not reached: the file has %.2f dB (%u vertices); raise "
+                    "the budget (--compression-ratio lower, --iterations higher)",
+                    options.target_psnr, file_psnr, unsigned(result.image.vertices.size()));
+      note = buf;
+    }
   }
+  result.report.seconds.load = load_seconds;
+  const double fit_psnr = result.report.psnr;
+  result.report.psnr = file_psnr;
+  if (!reached) {
+    if (args.flag("--strict")) return Status(StatusCode::kLimitExceeded, input + ": " + note + "; nothing written");
+    std::fprintf(stderr, "sdvi vectorize: warning: %s: %s\n", input.c_str(), note.c_str());
+  }
+  SDVI_RETURN_IF_ERROR(WriteFileAtomic(*output, bytes));
   std::error_code ec;
   const uint64_t file_size = std::filesystem::file_size(*output, ec);
 
@@ -157,6 +202,10 @@ Status VectorizeCommand(const Args& args) {
     nlohmann::json report = ReportJson(input, *output, raster, result.report, ec ? 0 : file_size);
     report["fit_psnr_db"] = fit_psnr;
     if (!rate_report.is_null()) report["rate"] = rate_report;
+    if (args.get("--quality") || args.get("--target-bytes") || options.target_psnr > 0) {
+      report["target_reached"] = reached;
+      if (!reached) report["target_note"] = note;
+    }
     const std::string text = report.dump(2) + "\n";
     SDVI_RETURN_IF_ERROR(WriteFileAtomic(*report_path, text.data(), text.size()));
   }
@@ -193,8 +242,9 @@ Status SampleCommand(const Args& args) {
 
 int RunVectorize(const CommandArgs& args) {
   const ArgSpec spec{{"-o", "--target-psnr", "--max-triangles", "--iterations", "--mask",
-                      "--report", "--debug-dir", "--threads", "--compression-ratio"},
-                     {"--quiet", "--compress"}};
+                      "--report", "--debug-dir", "--threads", "--compression-ratio", "--quality",
+                      "--target-bytes"},
+                     {"--quiet", "--compress", "--strict"}};
   StatusOr<Args> parsed = Args::Parse(args, spec);
   if (!parsed.ok()) return ReportError("vectorize", parsed.status());
   const Status status = VectorizeCommand(*parsed);

@@ -18,7 +18,7 @@ const Command kCommands[] = {
     {"vectorize", sdvi::cli::RunVectorize,
      "IN.png|jpg|tif|bmp -o OUT.sdvi [--target-psnr dB] [--max-triangles N] [--iterations K] "
      "[--compression-ratio R] [--mask M] [--report R.json] [--debug-dir D] [--threads N] [--compress] "
-     "[--quiet]"},
+     "[--quality Q | --target-bytes N] [--strict] [--quiet]   (spec/RATE.md)"},
     {"import-svg", sdvi::cli::RunImportSvg,
      "IN.svg -o OUT.sdvi [--mode artwork] [--width W | --scale S] [--max-triangles N] "
      "[--target-psnr dB] [--report R.json] [--debug-dir D] [--threads N] [--quiet]   (spec/SVG.md)"},

@@ -709,6 +709,11 @@ int main(int argc, char** argv) {
       }
       if (std::isfinite(sdvi_ms)) t.sdvi_ms.push_back(sdvi_ms);
       rows.push_back(row);
+      for (size_t v = 0; v < nv; ++v)  // at once, so that a partial run still says something
+        std::printf("%-8s %-30s BD-rate sdvi %s vs jpeg %+.1f%%, webp %+.1f%%, avif %+.1f%%, jxl %+.1f%%\n",
+                    kind.c_str(), name.c_str(), variants[v].c_str(), row.bd[v][0], row.bd[v][1], row.bd[v][2],
+                    row.bd[v][3]);
+      std::fflush(stdout);
       if (plots && !sdvi_plot[0].empty()) {
         const std::string plot = (out / ("rd_" + kind + "_" + name + ".png")).string();
         DrawPlot(plot, "bpp vs PSNR (premultiplied RGBA): " + name, series);

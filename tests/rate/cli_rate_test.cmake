@@ -45,3 +45,40 @@ foreach(mode compress raw)
     message(FATAL_ERROR "${mode}: bytes by part sum to ${sum}, the file has ${file_bytes}")
   endif()
 endforeach()
+
+# Targets (spec/RATE.md 4). Bytes: the file fits.
+run_sdvi(0 vectorize ${WORK}/s.png -o ${WORK}/bytes.sdvi --target-bytes 2000 --threads 1 --quiet
+         --report ${WORK}/bytes.json)
+file(SIZE ${WORK}/bytes.sdvi size)
+file(READ ${WORK}/bytes.json report)
+string(JSON reached GET "${report}" target_reached)
+if(size GREATER 2000 OR NOT reached)
+  message(FATAL_ERROR "--target-bytes 2000: file of ${size} bytes, reached ${reached}")
+endif()
+# An unreachable PSNR: a warning, the report says so, exit 0 ...
+execute_process(COMMAND ${SDVI} vectorize ${WORK}/s.png -o ${WORK}/short.sdvi --target-psnr 90 --threads 1
+                        --quiet --report ${WORK}/short.json
+                RESULT_VARIABLE rc ERROR_VARIABLE err)
+file(READ ${WORK}/short.json report)
+string(JSON reached GET "${report}" target_reached)
+if(NOT rc EQUAL 0 OR reached OR NOT err MATCHES "warning: .*target PSNR 90.00 dB not reached")
+  message(FATAL_ERROR "unreachable --target-psnr: exit ${rc}, reached ${reached}, stderr: ${err}")
+endif()
+# ... and under --strict a failure that writes nothing.
+execute_process(COMMAND ${SDVI} vectorize ${WORK}/s.png -o ${WORK}/strict.sdvi --target-psnr 90 --strict
+                        --threads 1 --quiet
+                RESULT_VARIABLE rc ERROR_VARIABLE err)
+if(rc EQUAL 0 OR EXISTS ${WORK}/strict.sdvi OR NOT err MATCHES "not reached.*nothing written")
+  message(FATAL_ERROR "--strict with an unreachable target: exit ${rc}, stderr: ${err}")
+endif()
+# Usage errors: two targets, a quality out of range.
+execute_process(COMMAND ${SDVI} vectorize ${WORK}/s.png -o ${WORK}/two.sdvi --quality 50 --target-bytes 900
+                RESULT_VARIABLE rc ERROR_VARIABLE err)
+if(rc EQUAL 0 OR EXISTS ${WORK}/two.sdvi OR NOT err MATCHES "choose one of")
+  message(FATAL_ERROR "two targets: exit ${rc}, stderr: ${err}")
+endif()
+execute_process(COMMAND ${SDVI} vectorize ${WORK}/s.png -o ${WORK}/q.sdvi --quality 101
+                RESULT_VARIABLE rc ERROR_VARIABLE err)
+if(rc EQUAL 0 OR NOT err MATCHES "0..100")
+  message(FATAL_ERROR "--quality 101: exit ${rc}, stderr: ${err}")
+endif()
