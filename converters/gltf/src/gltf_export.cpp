@@ -25,6 +25,7 @@
 
 #include "sdvi/export_levels.h"
 #include "sdvi/file_util.h"
+#include "sdvi/progress.h"
 #include "sdvi/subdiv.h"
 
 #ifndef SDVI_VERSION
@@ -430,6 +431,7 @@ StatusOr<GltfExport> EncodeGltfOrThrow(const Image& image, const GltfExportOptio
   LimitSurfaceOptions surface_options;
   surface_options.levels = result.levels;
   surface_options.to_limit = true;
+  if (options.progress) options.progress->Phase("limit surface (level " + std::to_string(result.levels) + ")");
   SDVI_ASSIGN_OR_RETURN(LimitSurface surface, BuildLimitSurface(image, surface_options));
   const std::vector<Vertex> fine = EvaluateSurface(surface, image.vertices);
   const std::vector<bool> reverse = ControlTrianglesToReverse(image);
@@ -481,6 +483,7 @@ StatusOr<GltfExport> EncodeGltfOrThrow(const Image& image, const GltfExportOptio
   model.defaultScene = 0;
   UseExtension(&model, "KHR_materials_unlit", /*required=*/false);
 
+  if (options.progress) options.progress->Phase(options.draco ? "Draco encoding" : "glTF encoding");
   tinygltf::Primitive primitive;
   if (options.draco) {
     SDVI_ASSIGN_OR_RETURN(primitive, AddDracoPrimitive(&model, mesh, options, &result.draco_bytes,
@@ -525,6 +528,7 @@ StatusOr<GltfExport> EncodeGltfOrThrow(const Image& image, const GltfExportOptio
   std::string bytes = std::move(out).str();  // C++20: moves the stream's buffer out
   if (external) bytes = PointBufferAtFile(bytes, options.bin_uri, result.bin.size());
   result.bytes.assign(bytes.begin(), bytes.end());
+  if (options.progress) options.progress->Done();
   return result;
 }
 

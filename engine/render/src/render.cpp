@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "sdvi/render.h"
+#include "sdvi/progress.h"
 #include "sdvi/subdiv.h"
 
 namespace sdvi {
@@ -140,6 +141,7 @@ StatusOr<Raster> Render(const Image& image, const RenderOptions& options) {
   if (region.size() < image.triangles.size()) lso.control_triangles = std::move(region);
 
   // One evaluation of this topology: direct refinement is cheaper than building stencils.
+  if (options.progress) options.progress->Phase("subdivide (level " + std::to_string(levels) + ")");
   SDVI_ASSIGN_OR_RETURN(RefinedMesh surface, RefineImage(image, lso));
   const std::vector<Vertex>& fine = surface.vertices;
   for (const Vertex& v : fine) {
@@ -149,9 +151,12 @@ StatusOr<Raster> Render(const Image& image, const RenderOptions& options) {
                     "render: a surface point maps to output pixel (" + std::to_string(ox) + ", " + std::to_string(oy) +
                         "), beyond the exact range of +-2^21; render a smaller scale or region");
   }
+  if (options.progress) options.progress->Phase("scan conversion (" + std::to_string(surface.triangles.size()) + " triangles)");
   std::vector<Edge> boundary;
   if (options.antialias) boundary = MeshBoundaryEdges(surface.triangles, &surface.vertex_tags);
-  return RenderFineMesh(surface.triangles, fine, vp, options.antialias ? &boundary : nullptr, options.threads);
+  Raster out = RenderFineMesh(surface.triangles, fine, vp, options.antialias ? &boundary : nullptr, options.threads);
+  if (options.progress) options.progress->Done();
+  return out;
 }
 
 }  // namespace sdvi

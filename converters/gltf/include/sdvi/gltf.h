@@ -25,6 +25,8 @@
 
 namespace sdvi {
 
+class Progress;
+
 enum class GltfContainer {
   kBinary,  // .glb: JSON chunk + one BIN chunk
   kText,    // .gltf: JSON; the buffer in a .bin file beside it (bin_uri), or embedded as a
@@ -43,6 +45,7 @@ struct GltfExportOptions {
   bool embed = false;        // .gltf: the buffer as a base64 data: URI, not a .bin file
   std::string bin_uri;       // .gltf without embed: the buffer's URI (WriteGltf sets it to
                              // the output's name with .bin, percent-encoded)
+  Progress* progress = nullptr;  // optional terminal progress (not owned)
 };
 
 // The largest level accepted, and the fine-triangle budget of an explicit level.

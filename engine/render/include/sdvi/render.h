@@ -13,6 +13,8 @@
 
 namespace sdvi {
 
+class Progress;
+
 // Maps output pixels to source coordinates: the centre of output pixel (i, j) is the
 // source point (origin_x + (i + 0.5) / scale_x, origin_y + (j + 0.5) / scale_y).
 struct Viewport {
@@ -59,6 +61,7 @@ struct RenderOptions {
   int max_levels = 6;
   bool antialias = true;  // coverage anti-aliasing of the domain edge
   int threads = 0;        // worker threads for scan conversion; 0 = hardware concurrency
+  Progress* progress = nullptr;  // optional terminal progress: phases "subdivide", "scan" (not owned)
 };
 
 // Renders image to an RGBA raster (colours 0..255 sRGB, alpha 0..1 coverage of the domain).
