@@ -33,6 +33,7 @@ struct Candidate {
   int position_bits = 0, color_bits = 0;
   std::vector<uint8_t> file;
   Image decoded;
+  Image refitted;  // positions as decoded, colours refitted, not yet quantised (refit only)
   double psnr = 0;
   double Cost(double slope) const { return std::log(double(file.size())) - psnr / slope; }
 };
@@ -65,20 +66,29 @@ StatusOr<RateResult> CompressForRate(const VectorizeResult& vectorized, const Ra
   ColorFitOptions refit = fit;
   refit.threads = options.threads;
 
-  // Measures one (position bits, colour bits) pair.
-  auto evaluate = [&](int position_bits, int color_bits) -> StatusOr<Candidate> {
+  // Measures one (position bits, colour bits) pair. same_positions: a candidate with the same
+  // position bits, whose refitted image is reused (Draco quantises attributes independently,
+  // so the decoded positions, and hence the refit, are the same).
+  auto evaluate = [&](int position_bits, int color_bits, const Candidate* same_positions) -> StatusOr<Candidate> {
     Candidate c;
     c.position_bits = position_bits;
     c.color_bits = color_bits;
     CompressOptions compress;
     compress.position_bits = position_bits;
     compress.color_bits = color_bits;
-    SDVI_ASSIGN_OR_RETURN(c.file, EncodeImage(image, &compress));
-    SDVI_ASSIGN_OR_RETURN(c.decoded, DecodeImage(c.file, "rate control"));
-    if (options.refit_colors) {
-      // Positions as decoded, colours fitted to them, then quantised.
-      SDVI_RETURN_IF_ERROR(FitColors(c.decoded, source, mask, refit).status());
-      SDVI_ASSIGN_OR_RETURN(c.file, EncodeImage(c.decoded, &compress));
+    if (options.refit_colors && same_positions != nullptr) {
+      c.refitted = same_positions->refitted;
+    } else {
+      SDVI_ASSIGN_OR_RETURN(c.file, EncodeImage(image, &compress));
+      SDVI_ASSIGN_OR_RETURN(c.decoded, DecodeImage(c.file, "rate control"));
+      if (options.refit_colors) {
+        // Positions as decoded, colours fitted to them.
+        c.refitted = std::move(c.decoded);
+        SDVI_RETURN_IF_ERROR(FitColors(c.refitted, source, mask, refit).status());
+      }
+    }
+    if (options.refit_colors) {  // then quantised
+      SDVI_ASSIGN_OR_RETURN(c.file, EncodeImage(c.refitted, &compress));
       SDVI_ASSIGN_OR_RETURN(c.decoded, DecodeImage(c.file, "rate control"));
     }
     SDVI_ASSIGN_OR_RETURN(c.psnr, Psnr(c.decoded, source, options.threads));
@@ -88,7 +98,7 @@ StatusOr<RateResult> CompressForRate(const VectorizeResult& vectorized, const Ra
 
   int position_bits = DefaultPositionBits(image, fit_mse);
   int color_bits = DefaultColorBits(image, fit_mse);
-  SDVI_ASSIGN_OR_RETURN(Candidate best, evaluate(position_bits, color_bits));
+  SDVI_ASSIGN_OR_RETURN(Candidate best, evaluate(position_bits, color_bits, nullptr));
   if (options.search_bits) {
     // Coordinate descent: positions, then colours, one bit at a time while J falls.
     for (int attribute = 0; attribute < 2; ++attribute) {
@@ -96,7 +106,7 @@ StatusOr<RateResult> CompressForRate(const VectorizeResult& vectorized, const Ra
         const int p = best.position_bits - (attribute == 0 ? 1 : 0);
         const int c = best.color_bits - (attribute == 1 ? 1 : 0);
         if (p < kMinBits || c < kMinBits) break;
-        SDVI_ASSIGN_OR_RETURN(Candidate next, evaluate(p, c));
+        SDVI_ASSIGN_OR_RETURN(Candidate next, evaluate(p, c, attribute == 1 ? &best : nullptr));
         if (next.psnr < options.min_psnr) break;
         if (!(next.Cost(result.slope_db) < best.Cost(result.slope_db))) break;
         best = std::move(next);

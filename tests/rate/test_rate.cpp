@@ -6,6 +6,7 @@
 #include <string>
 
 #include "sdvi/codec.h"
+#include "sdvi/color_fit.h"
 #include "sdvi/rate.h"
 #include "sdvi/raster_io.h"
 #include "sdvi/render.h"
@@ -115,6 +116,19 @@ TEST_CASE("the RD search never ends at a higher Lagrangian cost than its start",
   CHECK(cost(*best) <= cost(*first));
   CHECK(best->position_bits <= first->position_bits);
   CHECK(best->color_bits <= first->color_bits);
+  // The file is what the rule of spec/RATE.md 3 gives at the chosen bits, computed here
+  // without the search's reuse of refits: encode, decode, refit, encode.
+  sdvi::CompressOptions chosen;
+  chosen.position_bits = best->position_bits;
+  chosen.color_bits = best->color_bits;
+  auto first_pass = sdvi::EncodeImage(v.image, &chosen);
+  REQUIRE(first_pass.ok());
+  auto positions = sdvi::DecodeImage(*first_pass, "test");
+  REQUIRE(positions.ok());
+  REQUIRE(sdvi::FitColors(*positions, source, nullptr, {}).ok());
+  auto expected = sdvi::EncodeImage(*positions, &chosen);
+  REQUIRE(expected.ok());
+  CHECK(*expected == best->file);
   // Deterministic.
   auto again = sdvi::CompressForRate(v, source, nullptr, {}, search);
   REQUIRE(again.ok());
