@@ -1,12 +1,20 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// bench_pdf IN.sdvi... [--levels r]: for each file, the PDF export (type-4 strips, spec/PDF.md)
+// bench_pdf IN.sdvi... [--levels r] [--svg]: for each file, the PDF export (type-4 strips, spec/PDF.md)
 // against the size baseline of issue 12: cairo's PDF surface with a mesh pattern holding
 // the same fine triangles (one Coons patch per triangle, which cairo writes as ShadingType 7),
 // both measured in this run. Prints one table row per file:
 //   level, fine triangles, records/triangle, sdvi PDF bytes, bytes/triangle, write ms,
 //   cairo bytes, cairo ms, cairo / sdvi.
+// --svg adds a second table, the case for an SVG export (README, "Why PDF"): SVG 1.1 can
+// only fill a triangle with one colour, so the best an SVG of the same fine triangles can
+// show is the flat-shaded mesh (colour = mean of the three vertices) with no seams at all.
+// That upper bound is rendered by sdvi's own rasteriser and compared with the Gouraud-shaded
+// mesh at x1 and x4 (x4: the central 1024 x 1024 output pixels), and the bytes of the most
+// compact SVG text for it (one <path d="M..L..Z" fill="#rrggbb"/> per triangle, coordinates
+// with one decimal) are counted against the PDF's, at the PDF's level and one finer.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -17,6 +25,7 @@
 
 #include "sdvi/codec.h"
 #include "sdvi/pdf.h"
+#include "sdvi/render.h"
 #include "sdvi/subdiv.h"
 
 namespace {
@@ -69,30 +78,97 @@ size_t CairoMeshPdfBytes(const sdvi::Image& image, int levels, double* ms) {
   return ok ? bytes : 0;
 }
 
+// Bytes of the most compact SVG 1.1 text of the flat-shaded fine mesh.
+size_t FlatSvgBytes(const std::vector<sdvi::Triangle>& triangles, const std::vector<sdvi::Vertex>& fine,
+                    const std::vector<sdvi::Vertex>& flat) {
+  size_t bytes = 200;  // header, svg element, closing tag
+  char buffer[256];
+  for (size_t t = 0; t < triangles.size(); ++t) {
+    const auto& v = triangles[t].v;
+    const sdvi::Vertex& c = flat[3 * t];
+    auto clamp8 = [](float x) { return int(std::lround(std::clamp(x, 0.0f, 255.0f))); };
+    bytes += size_t(std::snprintf(buffer, sizeof buffer,
+                                  "<path d=\"M%.1f %.1fL%.1f %.1f %.1f %.1fZ\" fill=\"#%02x%02x%02x\"/>\n",
+                                  fine[v[0]].x, fine[v[0]].y, fine[v[1]].x, fine[v[1]].y, fine[v[2]].x,
+                                  fine[v[2]].y, clamp8(c.r), clamp8(c.g), clamp8(c.b)));
+  }
+  return bytes;
+}
+
+// One row of the SVG table: flat vs Gouraud PSNR at x1 and x4 (upper bounds for an SVG
+// viewer), SVG bytes and their ratio to the PDF's.
+void SvgRow(const std::string& name, const sdvi::Image& image, int levels, size_t pdf_bytes) {
+  sdvi::LimitSurfaceOptions options;
+  options.levels = levels;
+  auto surface = sdvi::BuildLimitSurface(image, options);
+  if (!surface.ok()) return;
+  const std::vector<sdvi::Vertex> fine = sdvi::EvaluateSurface(*surface, image.vertices);
+  std::vector<sdvi::Vertex> flat;
+  std::vector<sdvi::Triangle> flat_triangles;
+  flat.reserve(surface->triangles.size() * 3);
+  for (const sdvi::Triangle& t : surface->triangles) {
+    const sdvi::Vertex &a = fine[t.v[0]], &b = fine[t.v[1]], &c = fine[t.v[2]];
+    const float r = (a.r + b.r + c.r) / 3, g = (a.g + b.g + c.g) / 3, bl = (a.b + b.b + c.b) / 3;
+    const uint32_t base = uint32_t(flat.size());
+    for (const sdvi::Vertex* v : {&a, &b, &c}) flat.push_back({v->x, v->y, r, g, bl});
+    flat_triangles.push_back({{base, base + 1, base + 2}});
+  }
+  double psnr[2] = {0, 0};
+  for (int i = 0; i < 2; ++i) {
+    const int scale = i == 0 ? 1 : 4;
+    sdvi::Viewport vp = sdvi::Viewport::Identity(int(image.width), int(image.height));
+    if (scale == 4) {
+      vp.width = std::min(1024, int(image.width) * 4);
+      vp.height = std::min(1024, int(image.height) * 4);
+      vp.scale_x = vp.scale_y = 4;
+      vp.origin_x = (image.width * 4.0 - vp.width) / 2 / 4;
+      vp.origin_y = (image.height * 4.0 - vp.height) / 2 / 4;
+    }
+    const sdvi::Raster gouraud = sdvi::RenderFineMesh(surface->triangles, fine, vp);
+    const sdvi::Raster flat_raster = sdvi::RenderFineMesh(flat_triangles, flat, vp);
+    auto metrics = sdvi::CompareImages(flat_raster, gouraud);
+    psnr[i] = metrics.ok() ? metrics->psnr : 0;
+  }
+  const size_t svg = FlatSvgBytes(surface->triangles, fine, flat);
+  std::printf("| %s | %d | %zu | %.2f | %.2f | %zu | %.1f |\n", name.c_str(), levels,
+              surface->triangles.size(), psnr[0], psnr[1], svg, double(svg) / double(pdf_bytes));
+  std::fflush(stdout);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   std::vector<std::string> files;
   int levels = -1;
+  bool svg = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--levels" && i + 1 < argc) {
       levels = std::atoi(argv[++i]);
+    } else if (a == "--svg") {
+      svg = true;
     } else if (!a.empty() && a[0] != '-') {
       files.push_back(a);
     } else {
-      std::fprintf(stderr, "usage: bench_pdf IN.sdvi... [--levels r]\n");
+      std::fprintf(stderr, "usage: bench_pdf IN.sdvi... [--levels r] [--svg]\n");
       return 2;
     }
   }
   if (files.empty()) {
-    std::fprintf(stderr, "usage: bench_pdf IN.sdvi... [--levels r]\n");
+    std::fprintf(stderr, "usage: bench_pdf IN.sdvi... [--levels r] [--svg]\n");
     return 2;
   }
   std::printf("| file | level | fine triangles | records/tri | bits xy/rgb | sdvi PDF bytes | bytes/tri | "
               "write ms | cairo (type 7) bytes | cairo ms | cairo / sdvi |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
   int status = 0;
+  struct SvgInput {
+    std::string name;
+    sdvi::Image image;
+    int levels;
+    size_t pdf_bytes;
+  };
+  std::vector<SvgInput> svg_rows;
   for (const std::string& file : files) {
     auto image = sdvi::ReadImage(file);
     if (!image.ok()) {
@@ -118,6 +194,16 @@ int main(int argc, char** argv) {
                 pdf->bytes.size(), double(pdf->bytes.size()) / pdf->triangles, ms, cairo_bytes, cairo_ms,
                 double(cairo_bytes) / double(pdf->bytes.size()));
     std::fflush(stdout);
+    if (svg) svg_rows.push_back({file.substr(file.find_last_of('/') + 1), std::move(*image), pdf->levels,
+                                 pdf->bytes.size()});
+  }
+  if (svg) {
+    std::printf("\nFlat-shaded SVG 1.1 (best case: sdvi's rasteriser, no seams) vs the Gouraud mesh:\n\n");
+    std::printf("| file | level | triangles | PSNR x1 | PSNR x4 (1024^2 centre) | SVG bytes | SVG / PDF |\n");
+    std::printf("|---|---|---|---|---|---|---|\n");
+    for (const SvgInput& in : svg_rows) {
+      for (int r : {in.levels, in.levels + 1}) SvgRow(in.name, in.image, r, in.pdf_bytes);
+    }
   }
   return status;
 }
