@@ -37,8 +37,10 @@ TEST_CASE("svg geometry: viewBox, transforms and use give device-space outlines"
       "<g transform=\"translate(10,0)\"><use href=\"#r\" x=\"100\"/></g></svg>");
   CHECK(doc.width == 100);
   CHECK(doc.height == 50);
-  auto shapes = sdvi::TraceSvgGeometry(doc, 100, 50);
-  REQUIRE(shapes.ok());
+  auto traced = sdvi::TraceSvgGeometry(doc, 100, 50);
+  REQUIRE(traced.ok());
+  CHECK(traced->incomplete.empty());
+  const auto* shapes = &traced->shapes;
   REQUIRE(shapes->size() == 1);
   const sdvi::SvgShape& s = (*shapes)[0];
   CHECK(s.paint == sdvi::SvgPaint::kFill);
@@ -62,8 +64,9 @@ TEST_CASE("svg geometry: arcs and circles come out as cubics on the circle", "[s
       "<circle cx=\"32\" cy=\"30\" r=\"20\" fill=\"red\"/>"
       "<path d=\"M 12 60 A 10 10 0 0 1 32 60\" fill=\"none\" stroke=\"blue\" stroke-width=\"4\" "
       "transform=\"scale(1)\"/></svg>");
-  auto shapes = sdvi::TraceSvgGeometry(doc, 128, 128);  // rendered at twice the size
-  REQUIRE(shapes.ok());
+  auto traced = sdvi::TraceSvgGeometry(doc, 128, 128);  // rendered at twice the size
+  REQUIRE(traced.ok());
+  const auto* shapes = &traced->shapes;
   REQUIRE(shapes->size() == 2);
   const sdvi::SvgOutline& circle = (*shapes)[0].outlines.at(0);
   CHECK(circle.closed);
@@ -107,9 +110,10 @@ TEST_CASE("svg artwork: features follow the visible outline only", "[svg]") {
       "<rect x=\"16.3\" y=\"20.6\" width=\"40\" height=\"50\" fill=\"#d02020\"/>"
       "<rect x=\"40.2\" y=\"10.4\" width=\"40\" height=\"40\" fill=\"#2040d0\"/></svg>");
   auto reference = sdvi::RenderSvg(doc, 96, 96);
-  auto shapes = sdvi::TraceSvgGeometry(doc, 96, 96);
+  auto traced = sdvi::TraceSvgGeometry(doc, 96, 96);
   REQUIRE(reference.ok());
-  REQUIRE(shapes.ok());
+  REQUIRE(traced.ok());
+  const auto* shapes = &traced->shapes;
   sdvi::SvgArtworkOptions options;
   const std::vector<sdvi::FeatureCurve> curves = sdvi::ArtworkFeatures(*shapes, *reference, options);
   REQUIRE(!curves.empty());
@@ -147,6 +151,7 @@ TEST_CASE("svg artwork: an object drawing imports as an object image close to li
   CHECK(a->reference.width == 80);
   CHECK(a->reference.height == 64);
   CHECK(a->outline_features >= 3);
+  CHECK(a->object_image);
   CHECK_FALSE(a->approximate);
   CHECK(a->vectorized.report.triangles <= 1200);
   CHECK(a->vectorized.report.psnr > 30.0);
@@ -198,4 +203,22 @@ TEST_CASE("svg: a document without size needs an output width", "[svg]") {
     REQUIRE_FALSE(size.ok());
     CHECK(error == sdvi::SvgError::kNoSize);
   }
+}
+
+TEST_CASE("svg artwork: a transparent drawing of hairlines is composited over white", "[svg]") {
+  const sdvi::SvgDocument doc = Doc(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"64\" height=\"64\">"
+      "<rect x=\"0.5\" y=\"0.5\" width=\"63\" height=\"63\" fill=\"none\" stroke=\"black\"/>"
+      "<path d=\"M 8 8 L 56 40 M 8 40 L 56 8\" stroke=\"#0000c0\"/></svg>");
+  sdvi::SvgArtworkOptions options;
+  options.vectorize.max_triangles = 800;
+  auto result = sdvi::ImportSvgArtwork(doc, options);
+  INFO(result.status().ToString());
+  REQUIRE(result.ok());
+  CHECK_FALSE(result->object_image);
+  CHECK(result->reference.at(32, 50, 0) == 255.f);  // white where nothing is drawn
+  CHECK(result->vectorized.reconstruction.at(32, 50, 3) == Approx(1.f));
+  options.background = sdvi::SvgBackground::kTransparent;
+  auto object = sdvi::ImportSvgArtwork(doc, options);
+  if (object.ok()) CHECK(object->object_image);
 }

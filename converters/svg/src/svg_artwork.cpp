@@ -219,6 +219,53 @@ void EmitRun(const Side& side, const std::vector<size_t>& run, bool closed, cons
   out->push_back(std::move(curve));
 }
 
+// Share of the drawn pixels (alpha > 0.5) that a morphological opening with a 3 x 3 square
+// removes: parts thinner than 3 px.
+double ThinShare(const Raster& reference) {
+  const int w = reference.width, h = reference.height;
+  auto in = [&](const std::vector<uint8_t>& m, int x, int y) {
+    return x >= 0 && y >= 0 && x < w && y < h && m[size_t(y) * w + x];
+  };
+  std::vector<uint8_t> mask(size_t(w) * h), eroded(size_t(w) * h, 0);
+  size_t drawn = 0;
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      mask[size_t(y) * w + x] = reference.at(x, y, 3) > 0.5f ? 1 : 0;
+      drawn += mask[size_t(y) * w + x];
+    }
+  }
+  if (drawn == 0) return 0;
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      bool all = true;
+      for (int dy = -1; dy <= 1 && all; ++dy) {
+        for (int dx = -1; dx <= 1 && all; ++dx) all = in(mask, x + dx, y + dy);
+      }
+      eroded[size_t(y) * w + x] = all ? 1 : 0;
+    }
+  }
+  size_t lost = 0;
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      if (!mask[size_t(y) * w + x]) continue;
+      bool opened = false;
+      for (int dy = -1; dy <= 1 && !opened; ++dy) {
+        for (int dx = -1; dx <= 1 && !opened; ++dx) opened = in(eroded, x + dx, y + dy);
+      }
+      lost += opened ? 0 : 1;
+    }
+  }
+  return double(lost) / double(drawn);
+}
+
+void CompositeOverWhite(Raster& r) {
+  for (size_t i = 0; i < size_t(r.width) * r.height; ++i) {
+    const float a = r.data[4 * i + 3];
+    for (int c = 0; c < 3; ++c) r.data[4 * i + c] = r.data[4 * i + c] * a + 255.f * (1 - a);
+    r.data[4 * i + 3] = 1.f;
+  }
+}
+
 }  // namespace
 
 std::vector<FeatureCurve> ArtworkFeatures(const std::vector<SvgShape>& shapes, const Raster& reference,
@@ -287,23 +334,42 @@ StatusOr<SvgArtworkResult> ImportSvgArtwork(const SvgDocument& document, const S
   SDVI_ASSIGN_OR_RETURN(SvgSize size, ChooseSvgSize(document, options.width, options.scale, options.limits, error));
   SvgArtworkResult result;
   SDVI_ASSIGN_OR_RETURN(result.reference, RenderSvg(document, size.width, size.height));
-  SDVI_ASSIGN_OR_RETURN(std::vector<SvgShape> shapes, TraceSvgGeometry(document, size.width, size.height));
-  const std::vector<FeatureCurve> curves = ArtworkFeatures(shapes, result.reference, options);
-  result.outline_features = uint32_t(curves.size());
+  SDVI_ASSIGN_OR_RETURN(SvgGeometry geometry, TraceSvgGeometry(document, size.width, size.height));
+  if (!geometry.incomplete.empty()) {
+    result.warnings.push_back("approximate: librsvg stopped tracing the outlines (" + geometry.incomplete +
+                              "); only the " + std::to_string(geometry.shapes.size()) +
+                              " shapes traced before that give exact features");
+    result.approximate = true;
+  }
 
-  // An opaque drawing is a plain image; a transparent background makes an object image.
+  // An opaque drawing is a plain image; a transparent background makes an object image,
+  // unless it is made of thin structures (then it is composited over white).
+  Raster& ref = result.reference;
   bool opaque = true, any = false;
-  const Raster& ref = result.reference;
   for (size_t i = 0; i < size_t(ref.width) * ref.height; ++i) {
     opaque = opaque && ref.data[4 * i + 3] >= 0.999f;
     any = any || ref.data[4 * i + 3] > 0.5f;
   }
-  if (!any) {
+  if (!any && options.background != SvgBackground::kWhite) {
     return Status(StatusCode::kEmptyInput, document.name + ": nothing is drawn (the rendering is transparent)");
   }
+  bool white = options.background == SvgBackground::kWhite;
+  if (!opaque && options.background == SvgBackground::kAuto) {
+    const double thin = ThinShare(ref);
+    if (thin > 0.02) {
+      white = true;
+      result.warnings.push_back("the transparent drawing is " + std::to_string(int(std::lround(100 * thin))) +
+                                "% structures thinner than 3 px (text, hairlines): composited over white instead "
+                                "of an object image");
+    }
+  }
+  if (white) CompositeOverWhite(ref);
+  result.object_image = !opaque && !white;
+  const std::vector<FeatureCurve> curves = ArtworkFeatures(geometry.shapes, ref, options);
+  result.outline_features = uint32_t(curves.size());
   Raster rgb;
   const Raster* fitted = &ref;
-  if (opaque) {
+  if (!result.object_image) {
     rgb = Raster(ref.width, ref.height, 3);
     for (size_t i = 0; i < size_t(ref.width) * ref.height; ++i) {
       for (int c = 0; c < 3; ++c) rgb.data[3 * i + c] = ref.data[4 * i + c];
@@ -315,7 +381,7 @@ StatusOr<SvgArtworkResult> ImportSvgArtwork(const SvgDocument& document, const S
     return Status(vectorized.status().code(), document.name + ": " + vectorized.status().message());
   }
   result.vectorized = std::move(vectorized).value();
-  result.warnings = document.warnings;
+  result.warnings.insert(result.warnings.begin(), document.warnings.begin(), document.warnings.end());
   if (!document.unsupported.empty()) {
     std::string list;
     for (const std::string& u : document.unsupported) list += (list.empty() ? "" : ", ") + u;

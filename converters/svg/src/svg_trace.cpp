@@ -229,7 +229,7 @@ class ScriptReader {
 
 }  // namespace
 
-StatusOr<std::vector<SvgShape>> TraceSvgGeometry(const SvgDocument& document, int width, int height) {
+StatusOr<SvgGeometry> TraceSvgGeometry(const SvgDocument& document, int width, int height) {
   if (width <= 0 || height <= 0) {
     return Status(StatusCode::kInvalidArgument, document.name + ": trace size must be positive");
   }
@@ -244,8 +244,10 @@ StatusOr<std::vector<SvgShape>> TraceSvgGeometry(const SvgDocument& document, in
   cairo_surface_destroy(surface);
   cairo_device_finish(device);
   cairo_device_destroy(device);
-  SDVI_RETURN_IF_ERROR(rendered);
-  return ScriptReader(script).Read();
+  SvgGeometry geometry;
+  geometry.shapes = ScriptReader(script).Read();
+  if (!rendered.ok()) geometry.incomplete = rendered.message();
+  return geometry;
 }
 
 }  // namespace sdvi

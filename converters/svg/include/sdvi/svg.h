@@ -114,12 +114,27 @@ struct SvgShape {
 };
 
 // The painted paths of the document at the same viewport as RenderSvg, in painting order.
-StatusOr<std::vector<SvgShape>> TraceSvgGeometry(const SvgDocument& document, int width, int height);
+// When librsvg stops with an error while drawing into the script surface (it can refuse a
+// path there that it draws into an image), the shapes traced before the error are kept and
+// `incomplete` holds librsvg's message.
+struct SvgGeometry {
+  std::vector<SvgShape> shapes;
+  std::string incomplete;
+};
+StatusOr<SvgGeometry> TraceSvgGeometry(const SvgDocument& document, int width, int height);
 
 // Artwork mode (spec/SVG.md): the outlines that are colour discontinuities in the reference
 // become sharp features; colours come from the vectorizer's fit to the reference.
+enum class SvgBackground {
+  kAuto,         // transparent (an object image) unless the drawn area has structures
+                 // thinner than 3 px (text, hairlines) over more than 2% of it: then white
+  kTransparent,  // always an object image where the drawing leaves alpha < 1
+  kWhite,        // composited over white: a full-rectangle image
+};
+
 struct SvgArtworkOptions {
   int width = 0;       // output width (0: from scale or the intrinsic size)
+  SvgBackground background = SvgBackground::kAuto;
   double scale = 0;    // output size = scale x intrinsic size (0: 1)
   SvgLimits limits;
   VectorizeOptions vectorize;
@@ -136,6 +151,7 @@ struct SvgArtworkResult {
   Raster reference;                 // librsvg's rendering the colours were fitted to
   std::vector<std::string> warnings;
   bool approximate = false;         // true when some element has no exact features
+  bool object_image = false;        // the domain is the drawing's alpha (transparent background)
   uint32_t outline_features = 0;    // features that came from the SVG's outlines
 };
 

@@ -1,0 +1,224 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// bench_svg: tables for the SVG importer (spec/SVG.md).
+//   bench_svg w3c   [DIR (default ../shared/data/svg-w3c)]
+//     every *.svg with a *-ref.png: import-svg (artwork, defaults) at the PNG's size, render,
+//     PSNR against the PNG over the pixels both cover (as `sdvi compare`) and over all
+//     pixels after compositing both over white.
+//   bench_svg icons [DIR (default ../shared/data/svg)] [--width W (512)] [--max-triangles N (3000)]
+//     artwork vs Vectorize of librsvg's raster at the artwork's triangle count: PSNR of each
+//     render against librsvg's raster, the gain; Draco-compressed bytes (as `sdvi compress`)
+//     next to the SVG's gzip -9 size.
+#include <zlib.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "sdvi/codec.h"
+#include "sdvi/raster_io.h"
+#include "sdvi/render.h"
+#include "sdvi/svg.h"
+#include "sdvi/vectorize.h"
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double Seconds(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+sdvi::StatusOr<sdvi::Raster> RenderAt(const sdvi::Image& image, int width, int height) {
+  sdvi::RenderOptions options;
+  options.viewport = sdvi::Viewport::Identity(width, height);
+  return sdvi::Render(image, options);
+}
+
+// PSNR over all pixels after compositing a and b (RGBA or RGB) over white.
+double PsnrOverWhite(const sdvi::Raster& a, const sdvi::Raster& b) {
+  double sum = 0;
+  const size_t n = size_t(a.width) * a.height;
+  for (int y = 0; y < a.height; ++y) {
+    for (int x = 0; x < a.width; ++x) {
+      const float aa = a.has_alpha() ? a.at(x, y, a.channels - 1) : 1.f;
+      const float ab = b.has_alpha() ? b.at(x, y, b.channels - 1) : 1.f;
+      for (int c = 0; c < 3; ++c) {
+        const float ca = a.channels >= 3 ? a.at(x, y, c) : a.at(x, y, 0);
+        const float cb = b.channels >= 3 ? b.at(x, y, c) : b.at(x, y, 0);
+        const double va = std::clamp(ca, 0.f, 255.f) * aa + 255.0 * (1 - aa);
+        const double vb = std::clamp(cb, 0.f, 255.f) * ab + 255.0 * (1 - ab);
+        sum += (va - vb) * (va - vb);
+      }
+    }
+  }
+  const double mse = sum / (3.0 * double(n));
+  return mse <= 0 ? 99.0 : 10.0 * std::log10(255.0 * 255.0 / mse);
+}
+
+size_t GzipSize(const std::string& bytes) {
+  z_stream z{};
+  deflateInit2(&z, 9, Z_DEFLATED, 15 + 16, 9, Z_DEFAULT_STRATEGY);  // gzip -9 framing
+  std::vector<unsigned char> out(deflateBound(&z, uLong(bytes.size())) + 32);
+  z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(bytes.data()));
+  z.avail_in = uInt(bytes.size());
+  z.next_out = out.data();
+  z.avail_out = uInt(out.size());
+  deflate(&z, Z_FINISH);
+  const size_t size = z.total_out;
+  deflateEnd(&z);
+  return size;
+}
+
+std::vector<fs::path> SvgFiles(const fs::path& dir) {
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    if (e.path().extension() == ".svg") files.push_back(e.path());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+int W3cTable(const fs::path& dir, double ratio, double feature_fraction) {
+  std::printf("SVG 1.1 tests (%s): sdvi import-svg (artwork, defaults) at the reference PNG's size, "
+              "sdvi render, against the PNG\n\n", dir.c_str());
+  std::printf("%-24s %9s %9s %8s %6s %12s %12s %7s\n", "test", "size", "triangles", "features", "approx",
+              "PSNR common", "PSNR white", "time s");
+  int failures = 0, below_gate = 0;
+  double sum_common = 0, sum_white = 0;
+  int count = 0;
+  for (const fs::path& svg : SvgFiles(dir)) {
+    const fs::path png = svg.parent_path() / (svg.stem().string() + "-ref.png");
+    if (!fs::exists(png)) continue;
+    const Clock::time_point start = Clock::now();
+    auto reference = sdvi::LoadRaster(png.string());
+    auto document = sdvi::LoadSvgFile(svg.string(), {});
+    if (!reference.ok() || !document.ok()) {
+      std::printf("%-24s error: %s\n", svg.stem().c_str(),
+                  (!reference.ok() ? reference.status() : document.status()).ToString().c_str());
+      ++failures;
+      continue;
+    }
+    sdvi::SvgArtworkOptions options;
+    options.width = reference->width;
+    options.vectorize.compression_ratio = ratio;
+    options.vectorize.max_feature_fraction = feature_fraction;
+    auto result = sdvi::ImportSvgArtwork(*document, options);
+    if (!result.ok()) {
+      std::printf("%-24s error: %s\n", svg.stem().c_str(), result.status().ToString().c_str());
+      ++failures;
+      continue;
+    }
+    auto rendered = RenderAt(result->vectorized.image, reference->width, reference->height);
+    if (!rendered.ok()) {
+      std::printf("%-24s error: %s\n", svg.stem().c_str(), rendered.status().ToString().c_str());
+      ++failures;
+      continue;
+    }
+    auto common = sdvi::CompareImages(*rendered, *reference);
+    const double white = PsnrOverWhite(*rendered, *reference);
+    const double psnr = common.ok() ? common->psnr : 0;
+    std::printf("%-24s %4dx%-4d %9u %8u %6s %12.2f %12.2f %7.1f\n", svg.stem().c_str(), reference->width,
+                reference->height, result->vectorized.report.triangles, result->outline_features,
+                result->approximate ? "yes" : "no", psnr, white, Seconds(start));
+    sum_common += psnr;
+    sum_white += white;
+    below_gate += std::min(psnr, white) < 30 ? 1 : 0;
+    ++count;
+  }
+  if (count > 0) {
+    std::printf("\n%d tests, mean PSNR %.2f dB (common pixels), %.2f dB (over white); %d below 30 dB; %d errors\n",
+                count, sum_common / count, sum_white / count, below_gate, failures);
+  }
+  return failures == 0 ? 0 : 1;
+}
+
+int IconTable(const fs::path& dir, int width, int max_triangles) {
+  std::printf("Icons and emoji (%s) at width %d: artwork mode vs vectorize of librsvg's raster at the "
+              "artwork's triangle count (--max-triangles %d); PSNR against librsvg's raster over the "
+              "pixels both cover\n\n", dir.c_str(), width, max_triangles);
+  std::printf("%-22s %9s %9s %9s %9s %9s %7s %10s %10s %9s\n", "file", "size", "tri art", "tri vec", "PSNR art",
+              "PSNR vec", "gain", "art Draco", "vec Draco", "SVG gzip");
+  double sum_gain = 0;
+  int count = 0, failures = 0;
+  for (const fs::path& svg : SvgFiles(dir)) {
+    auto document = sdvi::LoadSvgFile(svg.string(), {});
+    if (!document.ok()) {
+      std::printf("%-22s error: %s\n", svg.stem().c_str(), document.status().ToString().c_str());
+      ++failures;
+      continue;
+    }
+    sdvi::SvgArtworkOptions options;
+    options.width = width;
+    options.vectorize.max_triangles = max_triangles;
+    auto art = sdvi::ImportSvgArtwork(*document, options);
+    if (!art.ok()) {
+      std::printf("%-22s error: %s\n", svg.stem().c_str(), art.status().ToString().c_str());
+      ++failures;
+      continue;
+    }
+    const sdvi::Raster& reference = art->reference;
+    sdvi::VectorizeOptions vectorize;
+    vectorize.max_triangles = int(art->vectorized.report.triangles);
+    auto vec = sdvi::Vectorize(reference, nullptr, vectorize);
+    if (!vec.ok()) {
+      std::printf("%-22s vectorize error: %s\n", svg.stem().c_str(), vec.status().ToString().c_str());
+      ++failures;
+      continue;
+    }
+    auto art_render = RenderAt(art->vectorized.image, reference.width, reference.height);
+    auto vec_render = RenderAt(vec->image, reference.width, reference.height);
+    if (!art_render.ok() || !vec_render.ok()) {
+      ++failures;
+      continue;
+    }
+    auto art_metrics = sdvi::CompareImages(*art_render, reference);
+    auto vec_metrics = sdvi::CompareImages(*vec_render, reference);
+    const double pa = art_metrics.ok() ? art_metrics->psnr : 0, pv = vec_metrics.ok() ? vec_metrics->psnr : 0;
+    auto draco_bytes = [](const sdvi::Image& image, double psnr) -> long {
+      sdvi::CompressOptions compress;
+      compress.reference_mse = 255.0 * 255.0 / std::pow(10.0, psnr / 10.0);
+      auto bytes = sdvi::EncodeImage(image, &compress);
+      return bytes.ok() ? long(bytes->size()) : -1;
+    };
+    std::ifstream in(svg, std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::printf("%-22s %4dx%-4d %9u %9u %9.2f %9.2f %+7.2f %10ld %10ld %9zu\n", svg.stem().c_str(), reference.width,
+                reference.height, art->vectorized.report.triangles, vec->report.triangles, pa, pv, pa - pv,
+                draco_bytes(art->vectorized.image, pa), draco_bytes(vec->image, pv), GzipSize(text));
+    sum_gain += pa - pv;
+    ++count;
+  }
+  if (count > 0) std::printf("\n%d files, mean gain %+.2f dB; %d errors\n", count, sum_gain / count, failures);
+  return failures == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::string mode = argc > 1 ? argv[1] : "";
+  std::string dir;
+  int width = 512, max_triangles = 3000;
+  double ratio = 16, feature_fraction = 0.8;
+  for (int i = 2; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--width") && i + 1 < argc) {
+      width = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--ratio") && i + 1 < argc) {
+      ratio = std::atof(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--feature-fraction") && i + 1 < argc) {
+      feature_fraction = std::atof(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--max-triangles") && i + 1 < argc) {
+      max_triangles = std::atoi(argv[++i]);
+    } else {
+      dir = argv[i];
+    }
+  }
+  if (mode == "w3c") return W3cTable(dir.empty() ? "../shared/data/svg-w3c" : dir, ratio, feature_fraction);
+  if (mode == "icons") return IconTable(dir.empty() ? "../shared/data/svg" : dir, width, max_triangles);
+  std::fprintf(stderr, "usage: bench_svg w3c [DIR] | icons [DIR] [--width W] [--max-triangles N]\n");
+  return 2;
+}
