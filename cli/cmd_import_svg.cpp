@@ -55,13 +55,48 @@ nlohmann::json ArtworkReportJson(const ImportSvgRequest& request, const SvgArtwo
           {"time_s", r.seconds.total}};
 }
 
+Status ImportCurves(const ImportSvgRequest& request) {
+  SvgCurvesOptions options;
+  options.width = request.width;
+  options.scale = request.scale;
+  SDVI_ASSIGN_OR_RETURN(SvgDocument document, LoadSvgFile(request.input, options.limits));
+  SDVI_ASSIGN_OR_RETURN(SvgCurvesResult result, ImportSvgCurves(document, options));
+  for (const std::string& w : result.warnings) {
+    std::fprintf(stderr, "sdvi import-svg: %s: warning: %s\n", request.input.c_str(), w.c_str());
+  }
+  SDVI_RETURN_IF_ERROR(SaveSdvi(request.output, result.image));
+  std::error_code ec;
+  const uint64_t file_size = std::filesystem::file_size(request.output, ec);
+  if (!request.report.empty()) {
+    const nlohmann::json report = {{"input", request.input},
+                                   {"output", request.output},
+                                   {"mode", "curves"},
+                                   {"width", result.width},
+                                   {"height", result.height},
+                                   {"curves", result.curves},
+                                   {"vertices", result.image.vertices.size()},
+                                   {"triangles", result.image.triangles.size()},
+                                   {"file_size_bytes", ec ? 0 : file_size},
+                                   {"warnings", result.warnings}};
+    const std::string text = report.dump(2) + "\n";
+    SDVI_RETURN_IF_ERROR(WriteFileAtomic(request.report, text.data(), text.size()));
+  }
+  if (!request.quiet) {
+    std::printf("%s: %d x %d, %zu curves, %zu triangles, %zu vertices, %llu bytes\n", request.output.c_str(),
+                result.width, result.height, result.curves, result.image.triangles.size(),
+                result.image.vertices.size(), static_cast<unsigned long long>(ec ? 0 : file_size));
+  }
+  return Status::Ok();
+}
+
 Status ImportSvgCommand(const ImportSvgRequest& request) {
-  if (request.mode != "artwork") {
+  if (request.mode != "artwork" && request.mode != "curves") {
     return Status(StatusCode::kInvalidArgument, "--mode must be artwork or curves, got '" + request.mode + "'");
   }
   if (request.width < 0 || request.scale < 0 || (request.width > 0 && request.scale > 0)) {
     return Status(StatusCode::kInvalidArgument, "give at most one of --width W (> 0) and --scale S (> 0)");
   }
+  if (request.mode == "curves") return ImportCurves(request);
   SvgArtworkOptions options;
   options.width = request.width;
   options.scale = request.scale;

@@ -20,7 +20,7 @@ const Command kCommands[] = {
      "[--compression-ratio R] [--mask M] [--report R.json] [--debug-dir D] [--threads N] [--compress] "
      "[--quality Q | --target-bytes N] [--strict] [--quiet]   (spec/RATE.md)"},
     {"import-svg", sdvi::cli::RunImportSvg,
-     "IN.svg -o OUT.sdvi [--mode artwork] [--width W | --scale S] [--max-triangles N] "
+     "IN.svg -o OUT.sdvi [--mode artwork|curves] [--width W | --scale S] [--max-triangles N] "
      "[--target-psnr dB] [--report R.json] [--debug-dir D] [--threads N] [--quiet]   (spec/SVG.md)"},
     {"render", sdvi::cli::RunRender,
      "IN.sdvi -o OUT.png|OUT.exr [--scale S | --width W --height H] [--region x,y,w,h] "

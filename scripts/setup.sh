@@ -16,7 +16,7 @@ PACKAGES+=(libopenimageio-dev liblcms2-dev libgif-dev zlib1g-dev)
 PACKAGES+=(openexr libjpeg-turbo-progs webp libosd-dev clang libclang-rt-14-dev chromium)
 # SVG import (converters/svg): librsvg, cairo (script surface), libxml2; rsvg-convert for
 # bench_svg; Roboto for the W3C reference PNGs (bench/svg/w3c_fonts.conf).
-PACKAGES+=(librsvg2-dev libcairo2-dev libxml2-dev librsvg2-bin fonts-roboto-unhinted)
+PACKAGES+=(librsvg2-dev libcairo2-dev libpango1.0-dev libxml2-dev librsvg2-bin fonts-roboto-unhinted)
 # Codecs bench_rd compares with: avifenc/avifdec, cjxl/djxl.
 PACKAGES+=(libavif-bin libjxl-tools)
 # Node.js: any install will do (the machine may carry a newer one than Debian's).

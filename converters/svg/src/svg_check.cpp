@@ -107,7 +107,11 @@ Status SvgFailure(SvgError code, const std::string& name, const std::string& wha
       status = StatusCode::kUnsupportedFormat;
       break;
     case SvgError::kNoSize:
+    case SvgError::kBadCurveAttribute:
       status = StatusCode::kInvalidArgument;
+      break;
+    case SvgError::kNoCurves:
+      status = StatusCode::kEmptyInput;
       break;
     default:
       break;
@@ -132,6 +136,8 @@ std::string_view SvgErrorName(SvgError error) {
     case SvgError::kSizeTooLarge: return "size_too_large";
     case SvgError::kNoSize: return "no_size";
     case SvgError::kRenderFailed: return "render_failed";
+    case SvgError::kBadCurveAttribute: return "bad_curve_attribute";
+    case SvgError::kNoCurves: return "no_curves";
   }
   return "unknown";
 }

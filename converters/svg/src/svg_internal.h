@@ -29,6 +29,9 @@ Status CheckSvg(const std::string& bytes, const std::string& name, const SvgLimi
 // describing it. Stops early (true) once *count exceeds cap.
 bool CountPathCommands(const std::string& d, size_t* count, std::string* what, size_t cap);
 
+// The painted shapes in a cairo script (svg_trace.cpp has the grammar it reads).
+std::vector<SvgShape> ReadCairoScript(const std::string& script);
+
 // The same for a polyline's or polygon's points (pairs of numbers).
 bool CountPolylinePoints(const std::string& points, size_t* count, std::string* what);
 

@@ -229,6 +229,8 @@ class ScriptReader {
 
 }  // namespace
 
+std::vector<SvgShape> ReadCairoScript(const std::string& script) { return ScriptReader(script).Read(); }
+
 StatusOr<SvgGeometry> TraceSvgGeometry(const SvgDocument& document, int width, int height) {
   if (width <= 0 || height <= 0) {
     return Status(StatusCode::kInvalidArgument, document.name + ": trace size must be positive");
@@ -245,7 +247,7 @@ StatusOr<SvgGeometry> TraceSvgGeometry(const SvgDocument& document, int width, i
   cairo_device_finish(device);
   cairo_device_destroy(device);
   SvgGeometry geometry;
-  geometry.shapes = ScriptReader(script).Read();
+  geometry.shapes = ReadCairoScript(script);
   if (!rendered.ok()) geometry.incomplete = rendered.message();
   return geometry;
 }

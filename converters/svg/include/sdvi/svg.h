@@ -21,6 +21,7 @@
 #include <string_view>
 #include <vector>
 
+#include "sdvi/create.h"
 #include "sdvi/features.h"
 #include "sdvi/raster.h"
 #include "sdvi/status.h"
@@ -45,6 +46,8 @@ enum class SvgError : int {
   kSizeTooLarge,         // output width or height over max_dimension, or pixels over max_pixels (kLimitExceeded)
   kNoSize,               // the document has no size and none was given (kInvalidArgument)
   kRenderFailed,         // librsvg refused to load or render the document (kDecodeFailed)
+  kBadCurveAttribute,    // curves mode: a malformed sdvi: attribute (kInvalidArgument)
+  kNoCurves,             // curves mode: no element carries sdvi colours (kEmptyInput)
 };
 
 // Stable lower_snake name, e.g. "too_many_elements".
@@ -167,5 +170,32 @@ std::vector<FeatureCurve> ArtworkFeatures(const std::vector<SvgShape>& shapes, c
 // VectorizeWithFeatures.
 StatusOr<SvgArtworkResult> ImportSvgArtwork(const SvgDocument& document, const SvgArtworkOptions& options,
                                             SvgError* error = nullptr);
+
+}  // namespace sdvi
+
+namespace sdvi {
+
+// Curves mode (spec/CURVES.md): every path / line / polyline / polygon / rect / circle /
+// ellipse outside defs with sdvi:left-color or sdvi:right-color is a curve (each subpath
+// one), in device space at the output size as librsvg draws it; the drawing goes to
+// CreateFromCurves. Elements without sdvi attributes are skipped with a warning.
+struct SvgCurvesOptions {
+  int width = 0;     // output width (0: from scale or the intrinsic size)
+  double scale = 0;  // output size = scale x intrinsic size (0: 1)
+  SvgLimits limits;
+  CreateOptions create;
+};
+
+struct SvgCurvesResult {
+  Image image;
+  int width = 0, height = 0;
+  size_t curves = 0;  // curves given to the engine (subpaths)
+  std::vector<std::string> warnings;
+};
+
+// Errors: kBadCurveAttribute (the message names the element, its line and the attribute),
+// kNoCurves, those of ChooseSvgSize and librsvg, and CreateFromCurves' (named by element).
+StatusOr<SvgCurvesResult> ImportSvgCurves(const SvgDocument& document, const SvgCurvesOptions& options,
+                                          SvgError* error = nullptr);
 
 }  // namespace sdvi
