@@ -92,6 +92,34 @@ echo "| image | size | scale | pdftoppm | pdftocairo | mutool | pdf.js | alpha f
 echo "|---|---|---|---|---|---|---|---|---|---|---|"
 printf '%s\n' "${rows[@]}"
 echo
-echo "Size and in-process write time against cairo's mesh pattern (ShadingType 7) of the same surface:"
+echo "Size and in-process write time against cairo's mesh pattern (ShadingType 7) of the same surface;"
+echo "then the best case of a flat-shaded SVG at the PDF's level, one coarser and one finer:"
 echo
-"$bench" "${sdvis[@]}"
+mkdir -p "$out/svg"
+"$bench" "${sdvis[@]}" --svg-dir "$out/svg"
+
+# The coarsest of those SVGs (one level below the PDF's) as Chromium draws it, against the
+# same `sdvi render` drawings as above (README "Vector output").
+[ $have_pdfjs = 1 ] || exit 0
+echo
+echo "Flat-shaded SVG one level below the PDF's, drawn by Chromium (crispEdges), vs \`sdvi render\`:"
+echo
+echo "| image | SVG | SVG bytes | SVG / PDF | Chromium x1 dB | Chromium x4 dB |"
+echo "|---|---|---|---|---|---|"
+for sdvi_file in "${sdvis[@]}"; do
+  name=$(basename "${sdvi_file%.*}")
+  svg=$(ls "$out/svg/${name}"_r*.svg | sort | head -1)
+  info=$("$sdvi" info "$sdvi_file" --json | tr -d '\n ')
+  w=$(json "$info" width); h=$(json "$info" height)
+  cells=""
+  for scale in 1 4; do
+    ow=$((w * scale)) oh=$((h * scale)) base="$out/${name}_x$scale"
+    if [ $scale -eq 1 ] || [ $((ow * oh)) -le $((2048 * 2048)) ]; then x=0 y=0 cw=$ow ch=$oh
+    else cw=$(( ow < 2048 ? ow : 2048 )) ch=$(( oh < 2048 ? oh : 2048 )) x=$(( (ow - cw) / 2 )) y=$(( (oh - ch) / 2 )); fi
+    if node "$root/scripts/svg_viewer.mjs" --scale $scale --region $x,$y,$cw,$ch "$svg" -o "${base}_svg.png" >/dev/null; then
+      cells+=" $(printf '%.2f' "$(json "$("$fixture" compare "${base}_svg.png" "${base}_sdvi.png")" psnr)") |"
+    else cells+=" failed |"; fi
+  done
+  bytes=$(stat -c %s "$svg") pdf_bytes=$(stat -c %s "$out/$name.pdf")
+  echo "| $name | $(basename "$svg") | $bytes | $(echo "scale=1; $bytes / $pdf_bytes" | bc -l) |$cells"
+done

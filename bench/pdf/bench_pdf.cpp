@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// bench_pdf IN.sdvi... [--levels r] [--svg]: for each file, the PDF export (type-4 strips, spec/PDF.md)
+// bench_pdf IN.sdvi... [--levels r] [--svg] [--svg-dir DIR]: for each file, the PDF export (type-4 strips, spec/PDF.md)
 // against the size baseline of issue 12: cairo's PDF surface with a mesh pattern holding
 // the same fine triangles (one Coons patch per triangle, which cairo writes as ShadingType 7),
 // both measured in this run. Prints one table row per file:
@@ -11,7 +11,9 @@
 // That upper bound is rendered by sdvi's own rasteriser and compared with the Gouraud-shaded
 // mesh at x1 and x4 (x4: the central 1024 x 1024 output pixels), and the bytes of the most
 // compact SVG text for it (one <path d="M..L..Z" fill="#rrggbb"/> per triangle, coordinates
-// with one decimal) are counted against the PDF's, at the PDF's level and one finer.
+// with one decimal, crispEdges) are counted against the PDF's, at the PDF's level, one
+// coarser and one finer. --svg-dir writes the coarsest of them (DIR/<name>_r<level>.svg) for
+// a browser (scripts/svg_viewer.mjs; scripts/pdf_report.sh).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -24,6 +26,7 @@
 #include <cairo.h>
 
 #include "sdvi/codec.h"
+#include "sdvi/file_util.h"
 #include "sdvi/pdf.h"
 #include "sdvi/render.h"
 #include "sdvi/subdiv.h"
@@ -78,26 +81,31 @@ size_t CairoMeshPdfBytes(const sdvi::Image& image, int levels, double* ms) {
   return ok ? bytes : 0;
 }
 
-// Bytes of the most compact SVG 1.1 text of the flat-shaded fine mesh.
-size_t FlatSvgBytes(const std::vector<sdvi::Triangle>& triangles, const std::vector<sdvi::Vertex>& fine,
-                    const std::vector<sdvi::Vertex>& flat) {
-  size_t bytes = 200;  // header, svg element, closing tag
+// The most compact SVG 1.1 text of the flat-shaded fine mesh (one <path> per triangle;
+// crispEdges: no anti-aliasing, so triangles sharing an edge leave no seam between them).
+std::string FlatSvg(const sdvi::Image& image, const std::vector<sdvi::Triangle>& triangles,
+                    const std::vector<sdvi::Vertex>& fine, const std::vector<sdvi::Vertex>& flat) {
+  std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + std::to_string(image.width) +
+                    "\" height=\"" + std::to_string(image.height) + "\" viewBox=\"0 0 " +
+                    std::to_string(image.width) + " " + std::to_string(image.height) +
+                    "\" shape-rendering=\"crispEdges\">\n";
   char buffer[256];
   for (size_t t = 0; t < triangles.size(); ++t) {
     const auto& v = triangles[t].v;
     const sdvi::Vertex& c = flat[3 * t];
     auto clamp8 = [](float x) { return int(std::lround(std::clamp(x, 0.0f, 255.0f))); };
-    bytes += size_t(std::snprintf(buffer, sizeof buffer,
-                                  "<path d=\"M%.1f %.1fL%.1f %.1f %.1f %.1fZ\" fill=\"#%02x%02x%02x\"/>\n",
-                                  fine[v[0]].x, fine[v[0]].y, fine[v[1]].x, fine[v[1]].y, fine[v[2]].x,
-                                  fine[v[2]].y, clamp8(c.r), clamp8(c.g), clamp8(c.b)));
+    std::snprintf(buffer, sizeof buffer, "<path d=\"M%.1f %.1fL%.1f %.1f %.1f %.1fZ\" fill=\"#%02x%02x%02x\"/>\n",
+                  fine[v[0]].x, fine[v[0]].y, fine[v[1]].x, fine[v[1]].y, fine[v[2]].x, fine[v[2]].y,
+                  clamp8(c.r), clamp8(c.g), clamp8(c.b));
+    svg += buffer;
   }
-  return bytes;
+  return svg + "</svg>\n";
 }
 
 // One row of the SVG table: flat vs Gouraud PSNR at x1 and x4 (upper bounds for an SVG
 // viewer), SVG bytes and their ratio to the PDF's.
-void SvgRow(const std::string& name, const sdvi::Image& image, int levels, size_t pdf_bytes) {
+void SvgRow(const std::string& name, const sdvi::Image& image, int levels, size_t pdf_bytes,
+            const std::string& svg_dir) {
   sdvi::LimitSurfaceOptions options;
   options.levels = levels;
   auto surface = sdvi::BuildLimitSurface(image, options);
@@ -129,7 +137,13 @@ void SvgRow(const std::string& name, const sdvi::Image& image, int levels, size_
     auto metrics = sdvi::CompareImages(flat_raster, gouraud);
     psnr[i] = metrics.ok() ? metrics->psnr : 0;
   }
-  const size_t svg = FlatSvgBytes(surface->triangles, fine, flat);
+  const std::string text = FlatSvg(image, surface->triangles, fine, flat);
+  const size_t svg = text.size();
+  if (!svg_dir.empty()) {
+    const std::string path = svg_dir + "/" + name.substr(0, name.find_last_of('.')) + "_r" + std::to_string(levels) + ".svg";
+    const sdvi::Status written = sdvi::WriteFileAtomic(path, text.data(), text.size());
+    if (!written.ok()) std::fprintf(stderr, "%s\n", written.ToString().c_str());
+  }
   std::printf("| %s | %d | %zu | %.2f | %.2f | %zu | %.1f |\n", name.c_str(), levels,
               surface->triangles.size(), psnr[0], psnr[1], svg, double(svg) / double(pdf_bytes));
   std::fflush(stdout);
@@ -141,21 +155,25 @@ int main(int argc, char** argv) {
   std::vector<std::string> files;
   int levels = -1;
   bool svg = false;
+  std::string svg_dir;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--levels" && i + 1 < argc) {
       levels = std::atoi(argv[++i]);
     } else if (a == "--svg") {
       svg = true;
+    } else if (a == "--svg-dir" && i + 1 < argc) {
+      svg = true;
+      svg_dir = argv[++i];
     } else if (!a.empty() && a[0] != '-') {
       files.push_back(a);
     } else {
-      std::fprintf(stderr, "usage: bench_pdf IN.sdvi... [--levels r] [--svg]\n");
+      std::fprintf(stderr, "usage: bench_pdf IN.sdvi... [--levels r] [--svg] [--svg-dir DIR]\n");
       return 2;
     }
   }
   if (files.empty()) {
-    std::fprintf(stderr, "usage: bench_pdf IN.sdvi... [--levels r] [--svg]\n");
+    std::fprintf(stderr, "usage: bench_pdf IN.sdvi... [--levels r] [--svg] [--svg-dir DIR]\n");
     return 2;
   }
   std::printf("| file | level | fine triangles | records/tri | bits xy/rgb | sdvi PDF bytes | bytes/tri | "
@@ -202,7 +220,10 @@ int main(int argc, char** argv) {
     std::printf("| file | level | triangles | PSNR x1 | PSNR x4 (1024^2 centre) | SVG bytes | SVG / PDF |\n");
     std::printf("|---|---|---|---|---|---|---|\n");
     for (const SvgInput& in : svg_rows) {
-      for (int r : {in.levels, in.levels + 1}) SvgRow(in.name, in.image, r, in.pdf_bytes);
+      for (int r : {in.levels - 1, in.levels, in.levels + 1}) {
+        // Only the coarsest SVG is written (the finer ones run to hundreds of MB).
+        if (r >= 0) SvgRow(in.name, in.image, r, in.pdf_bytes, r == std::max(0, in.levels - 1) ? svg_dir : "");
+      }
     }
   }
   return status;
