@@ -29,7 +29,7 @@
 //            [--threads N] [--baseline] [--no-plots] [--parts]
 //
 // sdvi files per budget (one vectorization): v1 = Draco at the steps v1 `vectorize --compress`
-// used (1% of the fit's MSE), rd = what `vectorize --compress` writes now (CompressForRate,
+// used (1% of the fit's MSE; container params recorded, as v1 wrote them), rd = what `vectorize --compress` writes now (CompressForRate,
 // sdvi/rate.h). --baseline: v1 only (the BEFORE table). --parts: each sdvi file's bytes by
 // part (MeasureParts) under its row.
 #include <algorithm>
@@ -410,6 +410,7 @@ sdvi::StatusOr<std::vector<SdviPoint>> RunSdvi(const sdvi::Raster& raster, const
     if (variant == 0) {
       sdvi::CompressOptions compress;
       compress.reference_mse = 255.0 * 255.0 / std::pow(10.0, result.report.psnr / 10.0);
+      compress.container_params = true;  // as v1 wrote them
       SDVI_ASSIGN_OR_RETURN(p.file, sdvi::EncodeImage(result.image, &compress));
     } else {
       sdvi::RateOptions rate;

@@ -9,7 +9,7 @@
 namespace sdvi {
 namespace {
 
-PayloadSummary SummaryOf(std::span<const uint8_t> payload) {
+PayloadSummary SummaryOf(std::span<const uint8_t> payload, bool with_params) {
   PayloadSummary summary;
   auto info = InspectDracoPayload(payload, "");
   if (!info.ok()) return summary;
@@ -17,6 +17,7 @@ PayloadSummary SummaryOf(std::span<const uint8_t> payload) {
   summary.codec_version_minor = static_cast<uint8_t>(info->version_minor);
   summary.vertex_count = info->vertex_count;
   summary.triangle_count = info->triangle_count;
+  if (!with_params) return summary;
   summary.params = {{"position_bits", std::to_string(info->position_bits)},
                     {"color_bits", std::to_string(info->color_bits)},
                     {"speed", std::to_string(info->speed)},
@@ -82,7 +83,7 @@ StatusOr<std::vector<uint8_t>> EncodeImage(const Image& image, const CompressOpt
     rest.polylines.clear();
     rest.pairs.clear();
   }
-  return EncodeSdviCompressed(rest, payload, SummaryOf(payload));
+  return EncodeSdviCompressed(rest, payload, SummaryOf(payload, compress->container_params));
 }
 
 Status WriteImage(const std::string& path, const Image& image, const CompressOptions* compress) {

@@ -138,3 +138,27 @@ TEST_CASE("the compression report reads the payload header", "[codec][io]") {
   CHECK_FALSE(report->draco.has_vertex_ids);
   CHECK(file->payload_summary.vertex_count == 900);
 }
+
+TEST_CASE("container params are optional: without them the file is smaller and decodes the same",
+          "[codec][io]") {
+  const Image image = sdvi::testing::SyntheticGridImage(64, 48, 8, 6, 3, /*shuffle=*/false);
+  CompressOptions lean, v1;
+  v1.container_params = true;
+  auto a = sdvi::EncodeImage(image, &lean);
+  auto b = sdvi::EncodeImage(image, &v1);
+  REQUIRE(a.ok());
+  REQUIRE(b.ok());
+  CHECK(a->size() + 150 < b->size());
+  auto da = sdvi::DecodeImage(*a, "lean");
+  auto db = sdvi::DecodeImage(*b, "v1");
+  REQUIRE(da.ok());
+  REQUIRE(db.ok());
+  CHECK(*da == *db);
+  auto fa = sdvi::DecodeSdvi(*a, "lean");
+  auto fb = sdvi::DecodeSdvi(*b, "v1");
+  REQUIRE(fa.ok());
+  REQUIRE(fb.ok());
+  CHECK(fa->payload_summary.params.empty());
+  CHECK(fb->payload_summary.params.size() == 5);
+  CHECK(fa->payload_summary.vertex_count == fb->payload_summary.vertex_count);
+}

@@ -39,6 +39,9 @@ struct CompressOptions {
   int speed = 0;          // Draco encoding/decoding speed 0 (smallest) .. 10 (fastest)
   bool keep_vertex_order = false;  // store original vertex ids (costs bytes)
   bool feature_layer = true;       // carry polylines and pairs in the payload (compactly)
+  // Repeat the payload header's settings as container params (spec/FORMAT.md 8): what v1.0
+  // writers did; redundant with the header and ~220 bytes a file, so off by default.
+  bool container_params = false;
   // MSE (8-bit units, over R, G, B) of the image's render against its source, when known
   // (the vectorizer reports it): lets the default quantization spend 1% of it (see
   // DefaultPositionBits). 0 = unknown: the conservative defaults.
