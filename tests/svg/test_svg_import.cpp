@@ -86,6 +86,19 @@ TEST_CASE("svg geometry: arcs and circles come out as cubics on the circle", "[s
   }
 }
 
+TEST_CASE("svg geometry: a gradient's matrix does not change the stroke width", "[svg]") {
+  const sdvi::SvgDocument doc = Doc(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"48\" height=\"48\" viewBox=\"0 0 12 12\">"
+      "<defs><linearGradient id=\"g\" x1=\"0\" y1=\"0\" x2=\"0.1\" y2=\"0\" gradientUnits=\"userSpaceOnUse\">"
+      "<stop offset=\"0\" stop-color=\"red\"/><stop offset=\"1\" stop-color=\"blue\"/></linearGradient></defs>"
+      "<path d=\"M 2 2 L 10 10\" stroke=\"url(#g)\" stroke-width=\"1.5\"/></svg>");
+  auto traced = sdvi::TraceSvgGeometry(doc, 48, 48);
+  REQUIRE(traced.ok());
+  REQUIRE(traced->shapes.size() == 1);
+  CHECK(traced->shapes[0].paint == sdvi::SvgPaint::kStroke);
+  CHECK(traced->shapes[0].stroke_width == Approx(6.0).margin(1e-4));  // 1.5 user units x 4
+}
+
 TEST_CASE("svg raster: librsvg colours un-premultiplied, transparent background", "[svg]") {
   const sdvi::SvgDocument doc = Doc(
       "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"20\" height=\"10\">"

@@ -6,7 +6,8 @@
 //   x y w h rectangle      a closed box      fill[+] stroke[+] clip[+]   the painting
 //   w set-line-width, [a b c d e f] | identity set-matrix, sx sy scale, [...] transform:
 //                          the stroke width in device pixels = width x sqrt(|det CTM|)
-//   context ... pop, save ... restore: graphics-state scopes.
+//   context ... pop, save ... restore: graphics-state scopes. Between linear / radial /
+//   pattern / mesh and the set-source that consumes it, set-matrix is the pattern's.
 // Everything else (sources, patterns, image data, dictionaries) is skipped token by token:
 // strings (...) with escapes, base85 data <~ ... ~> and <| ... ~>, hex <...>, comments.
 #include <cairo-script.h>
@@ -203,7 +204,11 @@ class ScriptReader {
       have_array_ = true;
       numbers_.clear();
       return;  // set-matrix follows
-    } else if (t == "set-matrix" && have_array_ && array_.size() == 6) {
+    } else if (t == "linear" || t == "radial" || t == "pattern" || t == "mesh") {
+      pattern_open_ = true;  // set-matrix now applies to the pattern, until set-source
+    } else if (t == "set-source") {
+      pattern_open_ = false;
+    } else if (t == "set-matrix" && have_array_ && array_.size() == 6 && !pattern_open_) {
       g.det = std::abs(array_[0] * array_[3] - array_[1] * array_[2]);
     } else if (t == "transform" && have_array_ && array_.size() == 6) {
       g.det *= std::abs(array_[0] * array_[3] - array_[1] * array_[2]);
@@ -222,6 +227,7 @@ class ScriptReader {
   size_t i_ = 0;
   std::vector<double> numbers_, array_;
   bool in_array_ = false, have_array_ = false;
+  bool pattern_open_ = false;  // a pattern is on the stack (its own set-matrix follows)
   std::vector<SvgOutline> path_;
   std::vector<GraphicsState> states_{GraphicsState()};
   std::vector<SvgShape> shapes_;
