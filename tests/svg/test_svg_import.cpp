@@ -94,9 +94,10 @@ TEST_CASE("svg geometry: a gradient's matrix does not change the stroke width", 
       "<path d=\"M 2 2 L 10 10\" stroke=\"url(#g)\" stroke-width=\"1.5\"/></svg>");
   auto traced = sdvi::TraceSvgGeometry(doc, 48, 48);
   REQUIRE(traced.ok());
-  REQUIRE(traced->shapes.size() == 1);
-  CHECK(traced->shapes[0].paint == sdvi::SvgPaint::kStroke);
-  CHECK(traced->shapes[0].stroke_width == Approx(6.0).margin(1e-4));  // 1.5 user units x 4
+  REQUIRE(traced->shapes.size() == 2);  // the (default black) fill, then the stroke
+  CHECK(traced->shapes[0].paint == sdvi::SvgPaint::kFill);
+  CHECK(traced->shapes[1].paint == sdvi::SvgPaint::kStroke);
+  CHECK(traced->shapes[1].stroke_width == Approx(6.0).margin(1e-4));  // 1.5 user units x 4
 }
 
 TEST_CASE("svg raster: librsvg colours un-premultiplied, transparent background", "[svg]") {
