@@ -12,6 +12,7 @@
 #include "sdvi/color_fit.h"
 
 #include <Eigen/Sparse>
+#include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 
 #include <algorithm>
@@ -144,6 +145,54 @@ void ComputeBlock(size_t t, const IndexSets& fine_of_control, const IndexSets& l
       for (int c = 0; c < 3; ++c) b_out[a * 3 + c] += sia * g[i * 3 + c];
     }
   }
+}
+
+// Solves A X = B (three right-hand sides) by conjugate gradients preconditioned with an
+// incomplete Cholesky factor, started from the vertices' current colours (see FitColors and
+// ColorFitOptions::warm_start), to a relative residual of
+// kSolveTolerance; falls back to a sparse LDL^T when CG does not get there within
+// kSolveMaxIterations. Single-threaded, so the result does not depend on the thread count.
+constexpr double kSolveTolerance = 1e-8;
+constexpr int kSolveMaxIterations = 2000;
+
+StatusOr<Eigen::MatrixXd> SolveNormalEquations(const Eigen::SparseMatrix<double>& matrix,
+                                               const Eigen::MatrixXd& rhs,
+                                               const std::vector<Vertex>& start) {
+  const Eigen::Index n = matrix.rows();
+  Eigen::MatrixXd guess(n, 3);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Vertex& v = start[size_t(i)];
+    const bool finite = std::isfinite(v.r) && std::isfinite(v.g) && std::isfinite(v.b);
+    guess(i, 0) = finite ? v.r : 0.0;
+    guess(i, 1) = finite ? v.g : 0.0;
+    guess(i, 2) = finite ? v.b : 0.0;
+  }
+  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper,
+                           Eigen::IncompleteCholesky<double>>
+      cg;
+  cg.setTolerance(kSolveTolerance);
+  cg.setMaxIterations(kSolveMaxIterations);
+  cg.compute(matrix);
+  if (cg.info() == Eigen::Success) {
+    Eigen::MatrixXd colors(n, 3);
+    bool converged = true;
+    for (int c = 0; c < 3 && converged; ++c) {
+      colors.col(c) = cg.solveWithGuess(rhs.col(c), guess.col(c));
+      converged = cg.info() == Eigen::Success && colors.col(c).allFinite();
+    }
+    if (converged) return colors;
+  }
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
+  ldlt.compute(matrix);
+  if (ldlt.info() != Eigen::Success) {
+    return Status(StatusCode::kInternal, "colour fit: sparse LDL^T factorisation of the " +
+                                             std::to_string(n) + "-vertex normal equations failed");
+  }
+  Eigen::MatrixXd colors = ldlt.solve(rhs);
+  if (ldlt.info() != Eigen::Success || !colors.allFinite()) {
+    return Status(StatusCode::kInternal, "colour fit: the normal equations gave no finite solution");
+  }
+  return colors;
 }
 
 }  // namespace
@@ -435,17 +484,17 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
   }
   std::vector<int>().swap(columns);
   std::vector<double>().swap(values);
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
-  solver.compute(matrix);
-  if (solver.info() != Eigen::Success) {
-    return Status(StatusCode::kInternal,
-                  "colour fit: sparse LDL^T factorisation of the " + std::to_string(num_control) +
-                      "-vertex normal equations failed");
+  if (!options.warm_start) {
+    // Start from the target under each vertex (nearest pixel), whatever the entry colours.
+    for (Vertex& v : image.vertices) {
+      const int x = std::clamp(int(std::floor(v.x)), 0, width - 1);
+      const int y = std::clamp(int(std::floor(v.y)), 0, height - 1);
+      double rgb[3];
+      PixelRgb(target, size_t(y) * width + x, rgb);
+      v.r = float(rgb[0]), v.g = float(rgb[1]), v.b = float(rgb[2]);
+    }
   }
-  const Eigen::MatrixXd colors = solver.solve(rhs);
-  if (solver.info() != Eigen::Success || !colors.allFinite()) {
-    return Status(StatusCode::kInternal, "colour fit: the normal equations gave no finite solution");
-  }
+  SDVI_ASSIGN_OR_RETURN(const Eigen::MatrixXd colors, SolveNormalEquations(matrix, rhs, image.vertices));
   for (size_t i = 0; i < num_control; ++i) {
     image.vertices[i].r = float(colors(Eigen::Index(i), 0));
     image.vertices[i].g = float(colors(Eigen::Index(i), 1));

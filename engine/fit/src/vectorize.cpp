@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <string>
+#include <unordered_map>
 
 #include "sdvi/progress.h"
 #include "sdvi/render.h"
@@ -116,6 +118,37 @@ void AddFitTimes(const ColorFit& fit, VectorizeTimings& t) {
   t.solve += fit.seconds_solve;
 }
 
+// The colour fit's starting point (its conjugate gradients start from the vertices'
+// colours): a vertex at the position of one of previous's vertices keeps that vertex's
+// fitted colour, any other takes the raster's colour at its nearest pixel.
+void SeedColors(Image& mesh, const Raster& raster, const Image* previous) {
+  auto key = [](const Vertex& v) {
+    uint32_t x, y;
+    std::memcpy(&x, &v.x, 4);
+    std::memcpy(&y, &v.y, 4);
+    return (uint64_t(x) << 32) | y;
+  };
+  std::unordered_map<uint64_t, uint32_t> fitted;
+  if (previous != nullptr) {
+    fitted.reserve(previous->vertices.size());
+    for (uint32_t i = 0; i < previous->vertices.size(); ++i) fitted.emplace(key(previous->vertices[i]), i);
+  }
+  for (Vertex& v : mesh.vertices) {
+    const auto it = fitted.find(key(v));
+    if (it != fitted.end()) {
+      const Vertex& old = previous->vertices[it->second];
+      v.r = old.r, v.g = old.g, v.b = old.b;
+      continue;
+    }
+    const int x = std::clamp(int(std::floor(v.x)), 0, raster.width - 1);
+    const int y = std::clamp(int(std::floor(v.y)), 0, raster.height - 1);
+    const bool grey = raster.channels <= 2;
+    v.r = raster.at(x, y, 0);
+    v.g = raster.at(x, y, grey ? 0 : 1);
+    v.b = raster.at(x, y, grey ? 0 : 2);
+  }
+}
+
 // The driver; `given` (when non-null) replaces edge detection (VectorizeWithFeatures).
 StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask,
                                         const std::vector<FeatureCurve>* given,
@@ -213,7 +246,9 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
 
   ColorFitOptions fit_options = options.fit;
   fit_options.threads = options.threads;
+  fit_options.warm_start = true;  // SeedColors below: the previous round's colours
   phase("fit");
+  SeedColors(mesh, raster, nullptr);
   SDVI_ASSIGN_OR_RETURN(ColorFit fit, FitColors(mesh, raster, mask, fit_options));
   AddFitTimes(fit, seconds);
   double psnr = PsnrOf(fit.sum_squared_error, fit.domain_pixels);
@@ -293,6 +328,7 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
     if (!accepted) break;
 
     phase("fit " + std::to_string(round));
+    SeedColors(candidate, raster, &mesh);
     SDVI_ASSIGN_OR_RETURN(ColorFit refit, FitColors(candidate, raster, mask, fit_options));
     AddFitTimes(refit, seconds);
     mesh = std::move(candidate);

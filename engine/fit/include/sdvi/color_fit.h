@@ -10,8 +10,12 @@
 // uses. Assembly goes through the fine level: per fine triangle the moments
 // sum w_a w_b and sum w_a I(p) form a fine normal matrix F and right-hand side g, which
 // are projected through the stencil matrix S (fine x control): A = S^T F S, b = S^T g
-// (three right-hand sides R, G, B; one matrix). The solve is a sparse LDL^T (Eigen
-// SimplicialLDLT, AMD ordering): deterministic for a given input.
+// (three right-hand sides R, G, B; one matrix). The solve is conjugate gradients
+// preconditioned by an incomplete Cholesky factor (Eigen), to a relative residual of 1e-8,
+// with a sparse LDL^T as the fallback when CG does not converge in 2000 iterations. CG starts
+// from the target's colour at each control vertex's pixel, or, with warm_start, from the
+// colours the vertices carry on entry (Vectorize passes the previous round's fit).
+// Single-threaded, so deterministic for a given input (and start).
 //
 // Regulariser: the second term is a graph-Laplacian (membrane / diffusion) energy over the
 // control mesh's edges, weighted by lambda times s = the mean diagonal of the data matrix
@@ -39,6 +43,7 @@ struct ColorFitOptions {
   // levels = 0, to_limit = false fits piecewise-linear colours on the control mesh itself.
   LimitSurfaceOptions surface;
   double regularization = 1e-4;  // lambda of the header comment (relative, >= 0)
+  bool warm_start = false;       // CG from the vertices' colours on entry (header comment)
   int threads = 1;               // assembly threads (results do not depend on it)
 };
 
@@ -57,11 +62,12 @@ struct ColorFit {
   double seconds_solve = 0;     // factorisation and solve
 };
 
-// Fits the colours of image.vertices (positions unchanged) to target, a raster of the same
-// size as image.width x image.height (grey, grey+alpha, RGB or RGBA; grey counts as
-// R = G = B). The domain is the pixels covered by the fine mesh whose alpha (if any) is
-// > 0.5 and, when a mask is given (same size), whose mask alpha is > 0.5 (mask with alpha)
-// or whose mask channel 0 is > 127.5 (mask without alpha, 0..255 scale).
+// Fits the colours of image.vertices (positions unchanged; with options.warm_start their
+// colours on entry are the solver's start, which moves the result within its tolerance) to
+// target, a raster of the same size as image.width x image.height (grey, grey+alpha, RGB
+// or RGBA; grey counts as R = G = B). The domain is the pixels covered by the fine mesh
+// whose alpha (if any) is > 0.5 and, when a mask is given (same size), whose mask alpha is
+// > 0.5 (mask with alpha) or whose mask channel 0 is > 127.5 (mask without alpha, 0..255).
 // Errors: kInvalidArgument (size mismatch, bad options), the errors of BuildLimitSurface,
 // kInternal when the factorisation fails.
 StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* mask,
