@@ -10,6 +10,8 @@ PACKAGES=(build-essential cmake ninja-build pkg-config
 # Image input (converters/raster): OpenImageIO (EXIF orientation, GIF, EXR, HDR), Little CMS
 # (ICC -> sRGB); giflib and zlib build the raster-input tests' files.
 PACKAGES+=(libopenimageio-dev liblcms2-dev libgif-dev zlib1g-dev)
+# The Python binding and its Dask driver (python/): pybind11, numpy, dask.distributed.
+PACKAGES+=(pybind11-dev python3-dev python3-numpy python3-dask python3-distributed)
 # Tools used by tests and benchmarks: exrheader (openexr), cjpeg (libjpeg-turbo-progs),
 # cwebp (webp), clang for the fuzz target, OpenSubdiv as a benchmark peer, node/npm for
 # the glTF validator and the three.js viewer test, chromium for the viewer test.
