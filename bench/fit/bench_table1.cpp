@@ -133,7 +133,7 @@ void PrintPhases(const sdvi::VectorizeReport& r) {
   const std::pair<const char*, double> rows[] = {
       {"features (DetectFeatures)", s.features},     {"triangulate (BuildControlMesh)", s.triangulate},
       {"limit surface + evaluate", s.surface},       {"coverage (MapPixels)", s.coverage},
-      {"assemble normal equations", s.assemble},     {"solve (LDL^T)", s.solve},
+      {"assemble normal equations", s.assemble},     {"solve (colour CG)", s.solve},
       {"refine (error map, selection)", s.refine},   {"metrics (Render + Compare)", s.metrics},
       {"total", s.total}};
   for (const auto& [name, sec] : rows) std::printf("| %s | %.3f |\n", name, sec);
