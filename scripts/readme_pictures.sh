@@ -17,9 +17,9 @@ mkdir -p "$out"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-# The part enlarged 4x: input pixels x 230..341, y 170..265 (the disc's rim, the triangle's
-# tip, the soft horizon).
-x=230 y=170 w=112 h=96
+# The part enlarged 4x: input pixels x 240..351, y 120..215 (the disc's rim and the triangle's
+# lower tip over the gradient).
+x=240 y=120 w=112 h=96
 "$sdvi" sample -o "$out/input.png"
 "$sdvi" vectorize "$out/input.png" -o "$work/sample.sdvi" --report "$work/report.json" --quiet
 "$sdvi" render "$work/sample.sdvi" -o "$out/sdvi_x1.png" --quiet
