@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // engine/edit: sharpness, identity edits, file round trips, validity, rotation, deformation.
 #include <catch2/catch.hpp>
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 
@@ -86,6 +88,54 @@ TEST_CASE("a sharper pair narrows the rendered transition", "[edit][sharpness]")
     CHECK(back->vertices[i].x == Approx(soft.vertices[i].x).margin(1e-4));
     CHECK(back->vertices[i].y == Approx(soft.vertices[i].y).margin(1e-4));
   }
+}
+
+TEST_CASE("a sharper pair narrows the transition of a vectorized blurred edge", "[edit][sharpness]") {
+  // The sample image's blurred edge, vectorized: its softest long pair, made sharp. The width
+  // is measured across the pair at its middle, on a 4x render, 10%-90% of the colour step.
+  const Image image = edit_test::VectorizedSample(256, 192);
+  const std::vector<FeatureInfo> features = ListFeatures(image);
+  const FeatureInfo* soft = nullptr;
+  for (const FeatureInfo& f : features)
+    if (f.kind == FeatureKind::kPair && f.length > 20 && (!soft || f.sharpness < soft->sharpness)) soft = &f;
+  REQUIRE(soft != nullptr);
+  INFO("pair " << soft->id << ", sharpness " << soft->sharpness << ", length " << soft->length);
+  REQUIRE(soft->sharpness < 0.5f);
+  auto sharp = ApplyEdits(image, {Step(SetSharpnessOp{soft->id, 1.0})});
+  REQUIRE(sharp.ok());
+  const auto& a = image.polylines[soft->first].vertices;
+  const auto& b = image.polylines[soft->second].vertices;
+  const Vertex &p = image.vertices[a[a.size() / 2]], &q = image.vertices[b[b.size() / 2]];
+  const double cx = (p.x + q.x) / 2.0, cy = (p.y + q.y) / 2.0, len = std::hypot(q.x - p.x, q.y - p.y);
+  const double nx = (q.x - p.x) / len, ny = (q.y - p.y) / len;
+  auto width = [&](const Image& im) {
+    RenderOptions o;
+    o.viewport = {int(im.width) * 4, int(im.height) * 4, 4, 4, 0, 0};
+    o.threads = 1;
+    const Raster r = Render(im, o).value();
+    // Colour along the normal, t in [-4, 4] px, projected on the step between the ends.
+    std::vector<std::array<double, 3>> c;
+    for (int k = 0; k <= 320; ++k) {
+      const double t = -4 + k * 0.025;
+      const int x = std::clamp(int((cx + t * nx) * 4), 0, r.width - 1), y = std::clamp(int((cy + t * ny) * 4), 0, r.height - 1);
+      c.push_back({r.at(x, y, 0), r.at(x, y, 1), r.at(x, y, 2)});
+    }
+    std::array<double, 3> d{};
+    double d2 = 0;
+    for (int ch = 0; ch < 3; ++ch) d[ch] = c.back()[ch] - c.front()[ch], d2 += d[ch] * d[ch];
+    std::vector<double> s;
+    for (const auto& col : c)
+      s.push_back(((col[0] - c.front()[0]) * d[0] + (col[1] - c.front()[1]) * d[1] + (col[2] - c.front()[2]) * d[2]) / d2);
+    auto first_above = [&](double level) {
+      for (size_t k = 0; k < s.size(); ++k)
+        if (s[k] >= level) return -4 + k * 0.025;
+      return 4.0;
+    };
+    return first_above(0.9) - first_above(0.1);
+  };
+  const double before = width(image), after = width(*sharp);
+  INFO("transition " << before << " px -> " << after << " px");
+  CHECK(after < 0.5 * before);
 }
 
 TEST_CASE("identity edits give byte-identical files", "[edit][roundtrip]") {
@@ -214,6 +264,29 @@ TEST_CASE("edits that degenerate a triangle or cross features are refused", "[ed
   CHECK(crossed.status().message().find("of polyline 1") != std::string::npos);
   // Moved apart instead: fine.
   CHECK(ApplyEdits(two, {Step(TranslateOp{second, 1, 1})}).ok());
+}
+
+TEST_CASE("a fold is re-triangulated by edge flips when asked", "[edit][validity]") {
+  // A square split along (0, 2); vertex 1 pulled over the diagonal folds triangle 0.
+  Image square;
+  square.width = square.height = 10;
+  square.vertices = {{0, 0}, {10, 0}, {10, 10}, {0, 10}};
+  square.triangles = {{{0, 1, 2}}, {{0, 2, 3}}};
+  const std::vector<EditStep> pull = {Step(SetPositionsOp{{1}, {{4, 6}}})};
+  auto refused = ApplyEdits(square, pull);
+  REQUIRE(!refused.ok());
+  CHECK(refused.status().code() == StatusCode::kEditRefused);
+  EditOptions repair;
+  repair.repair_folds = true;
+  auto repaired = ApplyEdits(square, pull, repair);
+  REQUIRE(repaired.ok());
+  // The diagonal is now (1, 3), both triangles counter-clockwise like the input's.
+  CHECK(repaired->triangles[0] == Triangle{{1, 2, 3}});
+  CHECK(repaired->triangles[1] == Triangle{{3, 0, 1}});
+  for (const Triangle& t : repaired->triangles) CHECK(Area2(*repaired, t) > 0);
+  // A crease diagonal is never flipped: still refused.
+  square.crease_edges = {Edge::Of(0, 2)};
+  CHECK(ApplyEdits(square, pull, repair).status().code() == StatusCode::kEditRefused);
 }
 
 TEST_CASE("a rotation by 90 degrees renders as the rotated render", "[edit][affine]") {

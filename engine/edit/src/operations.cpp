@@ -288,6 +288,10 @@ StatusOr<Image> ApplyEdits(const Image& image, const std::vector<EditStep>& step
     Image before = options.check_validity ? current : Image{};
     Status s = ApplyEditOp(step.op, options, &current);
     if (s.ok() && options.check_validity) s = CheckEditValidity(before, current);
+    if (!s.ok() && s.code() == StatusCode::kEditRefused && options.repair_folds) {
+      edit_internal::RepairFolds(edit_internal::MeshOrientation(before), &current);
+      s = CheckEditValidity(before, current);
+    }
     if (!s.ok()) return Status(s.code(), step.label + ": " + s.message());
   }
   return current;

@@ -63,10 +63,15 @@ Status CheckFinite(const Image& image) {
   return Status::Ok();
 }
 
+// Per triangle against its own sign before; after a repair (changed triangles) against
+// the mesh's orientation before.
 Status CheckOrientation(const Image& before, const Image& after) {
+  const bool same_topology = before.triangles == after.triangles;
+  const int orientation = edit_internal::MeshOrientation(before);
   std::vector<size_t> flipped, kept;
   for (size_t t = 0; t < after.triangles.size(); ++t) {
-    const double a0 = SignedArea2(before, before.triangles[t]), a1 = SignedArea2(after, after.triangles[t]);
+    const double a0 = same_topology ? SignedArea2(before, before.triangles[t]) : orientation;
+    const double a1 = SignedArea2(after, after.triangles[t]);
     if (a0 == 0 || a1 == 0) continue;  // degenerate ones are the next rule's
     ((a0 > 0) == (a1 > 0) ? kept : flipped).push_back(t);
   }
@@ -80,7 +85,7 @@ Status CheckDegenerate(const Image& before, const Image& after) {
   std::vector<size_t> bad;
   for (size_t t = 0; t < after.triangles.size(); ++t)
     if (MinHeight(after, after.triangles[t]) < kMinTriangleHeight &&
-        MinHeight(before, before.triangles[t]) >= kMinTriangleHeight)
+        (!(before.triangles[t] == after.triangles[t]) || MinHeight(before, before.triangles[t]) >= kMinTriangleHeight))
       bad.push_back(t);
   if (bad.empty()) return Status::Ok();
   return Refuse("the edit would make degenerate triangles (height under " + std::to_string(kMinTriangleHeight) +
@@ -154,8 +159,8 @@ Status CheckCrossings(const Image& before, const Image& after) {
 }  // namespace
 
 Status CheckEditValidity(const Image& before, const Image& after) {
-  if (before.vertices.size() != after.vertices.size() || before.triangles != after.triangles)
-    return Status(StatusCode::kInternal, "CheckEditValidity: the edit changed the topology");
+  if (before.vertices.size() != after.vertices.size() || before.triangles.size() != after.triangles.size())
+    return Status(StatusCode::kInternal, "CheckEditValidity: the edit changed the vertex or triangle count");
   SDVI_RETURN_IF_ERROR(CheckFinite(after));
   SDVI_RETURN_IF_ERROR(CheckOrientation(before, after));
   SDVI_RETURN_IF_ERROR(CheckDegenerate(before, after));

@@ -7,8 +7,9 @@
 // colours are the vertices' R, G, B (0..255 units, the file's scale); a pair's sharpness is
 // the distance of its two polylines, rho (1 - s) with the vectorizer's floor, placed by the
 // same code that places pairs when vectorizing (OffsetPairSides in sdvi/features.h).
-// Topology (triangles, creases, corners, the feature layer's vertex lists) never changes,
-// so an edit keeps the triangle and vertex order and the file stays comparable byte for byte.
+// Topology (triangles, creases, corners, the feature layer's vertex lists) never changes
+// (unless EditOptions::repair_folds flips edges), so an edit keeps the triangle and vertex
+// order and the file stays comparable byte for byte.
 //
 // Validity (checked after every operation; the first failure refuses the whole script):
 //  - fold: a triangle whose signed area changes sign (unless every triangle does: a
@@ -19,7 +20,9 @@
 //    where they did not before;
 //  - non-finite: a position or colour that is NaN or infinite.
 // The error (kEditRefused) names the operation, the rule and the first elements that break
-// it (triangle ids with their vertices, or the two edges).
+// it (triangle ids with their vertices, or the two edges). EditOptions::repair_folds may
+// first re-triangulate folds by edge flips; then a fold is checked against the mesh's
+// orientation, and every re-made triangle must pass the degenerate rule.
 #pragma once
 
 #include <array>
@@ -164,6 +167,12 @@ struct EditStep {
 struct EditOptions {
   ControlMeshOptions placement;  // rho, min_distance, use_sharpness for SetSharpnessOp
   bool check_validity = true;    // false: no validity rule (for tests of the rule itself)
+  // Re-triangulate folds: when an operation folds triangles, non-crease edges of the folded
+  // triangles are flipped (each flip only when both new triangles have the mesh's
+  // orientation and a height >= kMinTriangleHeight; sweeps in triangle order) and the
+  // rule is checked again. Vertices, creases and the triangle count stay; the triangles
+  // change, so the file is no longer comparable vertex-triple for vertex-triple.
+  bool repair_folds = false;
 };
 
 // Smallest triangle height an edit may leave (px); see the validity rule above.
@@ -174,8 +183,8 @@ inline constexpr double kMinTriangleHeight = 1e-3;
 // handles, a frame change with a partial selection), naming the parameter.
 Status ApplyEditOp(const EditOp& op, const EditOptions& options, Image* image);
 
-// Checks after against before (same topology) by the validity rule; ok or kEditRefused
-// naming the elements.
+// Checks after against before (same vertex and triangle counts) by the validity rule; ok
+// or kEditRefused naming the elements.
 Status CheckEditValidity(const Image& before, const Image& after);
 
 // Applies the steps in order, checking validity after each (EditOptions::check_validity).
