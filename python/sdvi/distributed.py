@@ -98,8 +98,9 @@ def map_files(client, inputs, output_dir, command="vectorize", options=None, res
         seen[out] = f
     os.makedirs(output_dir, exist_ok=True)
     options = dict(options or {})
-    futures = [client.submit(run_one, command, f, out, options, resume, pure=False, key=f"sdvi-{command}-{i}-{out}")
-               for i, (f, out) in enumerate(zip(files, outputs))]
+    # pure=False: a fresh key per call, so a rerun never gets an earlier run's result back.
+    futures = [client.submit(run_one, command, f, out, options, resume, pure=False)
+               for f, out in zip(files, outputs)]
     index = {future.key: i for i, future in enumerate(futures)}
     records = [None] * len(futures)
     log = open(report, "a", encoding="utf-8") if report else None
