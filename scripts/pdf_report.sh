@@ -121,5 +121,5 @@ for sdvi_file in "${sdvis[@]}"; do
     else cells+=" failed |"; fi
   done
   bytes=$(stat -c %s "$svg") pdf_bytes=$(stat -c %s "$out/$name.pdf")
-  echo "| $name | $(basename "$svg") | $bytes | $(echo "scale=1; $bytes / $pdf_bytes" | bc -l) |$cells"
+  echo "| $name | $(basename "$svg") | $bytes | $(printf '%.1f' "$(echo "$bytes / $pdf_bytes" | bc -l)") |$cells"
 done
