@@ -51,6 +51,7 @@ nlohmann::json ArtworkReportJson(const ImportSvgRequest& request, const SvgArtwo
           {"outline_features", result.outline_features},
           {"feature_curves", r.feature_curves},
           {"approximate", result.approximate},
+          {"object_image", result.object_image},
           {"warnings", result.warnings},
           {"time_s", r.seconds.total}};
 }

@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // bench_svg: tables for the SVG importer (spec/SVG.md).
 //   bench_svg w3c   [DIR (default ../shared/data/svg-w3c)]
-//     every *.svg with a *-ref.png: import-svg (artwork, defaults) at the PNG's size, render,
-//     PSNR against the PNG over the pixels both cover (as `sdvi compare`) and over all
-//     pixels after compositing both over white.
+//     every *.svg with a *-ref.png: import-svg (artwork; --ratio pixels per vertex, default
+//     16) at the PNG's size, render, PSNR against the PNG over all pixels after compositing
+//     both over white (the gate), and over the pixels both cover as `sdvi compare` counts
+//     them (that one compares raw colours, so it is low where the reference is partly
+//     transparent and the import was composited over white).
 //   bench_svg icons [DIR (default ../shared/data/svg)] [--width W (512)] [--max-triangles N (3000)]
 //     artwork vs Vectorize of librsvg's raster at the artwork's triangle count: PSNR of each
 //     render against librsvg's raster, the gain; Draco-compressed bytes (as `sdvi compress`)
@@ -84,8 +86,8 @@ std::vector<fs::path> SvgFiles(const fs::path& dir) {
 }
 
 int W3cTable(const fs::path& dir, double ratio, double feature_fraction) {
-  std::printf("SVG 1.1 tests (%s): sdvi import-svg (artwork, defaults) at the reference PNG's size, "
-              "sdvi render, against the PNG\n\n", dir.c_str());
+  std::printf("SVG 1.1 tests (%s): sdvi import-svg (artwork, %.0f pixels per vertex) at the reference PNG's "
+              "size, sdvi render, against the PNG\n\n", dir.c_str(), ratio);
   std::printf("%-24s %9s %9s %8s %6s %12s %12s %7s\n", "test", "size", "triangles", "features", "approx",
               "PSNR common", "PSNR white", "time s");
   int failures = 0, below_gate = 0;

@@ -10,8 +10,8 @@
 // operator that painted it (fill, stroke with its width, clip). So one engine gives both
 // the exact outlines and the raster the colours are fitted to.
 //
-// Safety. Before librsvg sees the bytes, CheckSvg reads them once with libxml2's streaming
-// reader (no network, no DTD loading, no entity substitution) and enforces SvgLimits; every
+// Safety. Before librsvg sees the bytes, CheckSvg reads them once with libxml2's SAX2
+// parser (no network, no DTD loading, no entity substitution) and enforces SvgLimits; every
 // breach is its own SvgError, and the Status message names the input and the limit.
 #pragma once
 
