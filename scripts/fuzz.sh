@@ -28,7 +28,7 @@ EXTRA=""
 [ "$TARGET" = mesh_json ] && EXTRA="converters/json/src/mesh_json.cpp"
 if [ "$TARGET" = svg ]; then
   # The importer's input side; librsvg, cairo and libxml2 are linked, not instrumented.
-  INCLUDES="$INCLUDES -Iconverters/svg/include -Iconverters/svg/src -Iengine/fit/include -Iengine/render/include -Iengine/subdiv/include $(pkg-config --cflags librsvg-2.0 cairo-script libxml-2.0)"
+  INCLUDES="$INCLUDES -Iconverters/svg/include -Iconverters/svg/src -Iengine/fit/include -Iengine/render/include -Iengine/subdiv/include -Iengine/create/include $(pkg-config --cflags librsvg-2.0 cairo-script libxml-2.0 pango)"
   EXTRA="converters/svg/src/svg_check.cpp converters/svg/src/svg_path_data.cpp converters/svg/src/svg_document.cpp converters/svg/src/svg_trace.cpp $(pkg-config --libs librsvg-2.0 cairo-script libxml-2.0)"
 fi
 echo "fuzz.sh: building $FUZZ_DIR/fuzz_$TARGET"
