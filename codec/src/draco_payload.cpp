@@ -22,6 +22,14 @@ namespace {
 
 using codec_internal::MeshEdge;
 
+// Fuzzing builds accept a wrong checksum so that mutated inputs reach the checks behind
+// it (the libFuzzer convention; the container does the same).
+#ifdef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
+constexpr bool kRejectBadChecksum = false;
+#else
+constexpr bool kRejectBadChecksum = true;
+#endif
+
 // Header layout (little-endian), 40 bytes.
 constexpr char kMagic[4] = {'S', 'D', 'R', 'C'};
 constexpr uint8_t kVersionMajor = 1;
@@ -87,6 +95,7 @@ StatusOr<Header> ParseHeader(std::span<const uint8_t> payload, const std::string
                       std::to_string(h.minor) + "; this build reads version 1");
   if (h.flags & ~kKnownFlags)
     return Status(StatusCode::kCorrupt, what + " has unknown flags " + std::to_string(h.flags));
+
   const uint64_t expected = kHeaderSize + uint64_t{h.draco_size} + h.tags_size;
   if (payload.size() < expected)
     return Status(StatusCode::kTruncated,
@@ -258,23 +267,54 @@ constexpr double kColorMseFactor = 1.0 / 24;  // added MSE per squared colour st
 int BitsForStep(double extent, double step) {
   const double levels = extent / step + 1;
   const int bits = static_cast<int>(std::ceil(std::log2(std::max(levels, 2.0))));
-  return std::clamp(bits, 8, 30);
+  return std::clamp(bits, 8, kMaxQuantizationBits);
 }
 
-Status ValidateForEncoding(const Image& image) {
+// image as ValidateImage expects it: crease edges and corners sorted and unique (the
+// codec accepts them in any order), the feature layer dropped when it does not travel.
+// A copy only when one of those applies.
+class ValidationView {
+ public:
+  ValidationView(const Image& image, bool feature_layer) : image_(&image) {
+    const bool sets_normal =
+        std::is_sorted(image.crease_edges.begin(), image.crease_edges.end()) &&
+        std::adjacent_find(image.crease_edges.begin(), image.crease_edges.end()) == image.crease_edges.end() &&
+        std::all_of(image.crease_edges.begin(), image.crease_edges.end(), [](const Edge& e) { return e.a < e.b; }) &&
+        std::is_sorted(image.corners.begin(), image.corners.end()) &&
+        std::adjacent_find(image.corners.begin(), image.corners.end()) == image.corners.end();
+    const bool drop_features = !feature_layer && (!image.polylines.empty() || !image.pairs.empty());
+    if (sets_normal && !drop_features) return;
+    copy_ = image;
+    for (Edge& e : copy_.crease_edges) e = Edge::Of(e.a, e.b);
+    std::sort(copy_.crease_edges.begin(), copy_.crease_edges.end());
+    copy_.crease_edges.erase(std::unique(copy_.crease_edges.begin(), copy_.crease_edges.end()),
+                             copy_.crease_edges.end());
+    std::sort(copy_.corners.begin(), copy_.corners.end());
+    copy_.corners.erase(std::unique(copy_.corners.begin(), copy_.corners.end()), copy_.corners.end());
+    if (drop_features) {
+      copy_.polylines.clear();
+      copy_.pairs.clear();
+    }
+    image_ = &copy_;
+  }
+  operator const Image&() const { return *image_; }  // NOLINT: a view by design
+
+ private:
+  const Image* image_;
+  Image copy_;
+};
+
+Status ValidateForEncoding(const Image& image, bool feature_layer) {
   const size_t n = image.vertices.size();
   if (n == 0 || image.triangles.empty())
     return Status(StatusCode::kEmptyInput, "image to compress has no vertices or no triangles");
   if (n > std::numeric_limits<uint32_t>::max() / 2 ||
       image.triangles.size() > std::numeric_limits<uint32_t>::max() / 4)
     return Status(StatusCode::kLimitExceeded, "image to compress is too large for a Draco payload");
-  for (size_t i = 0; i < n; ++i) {
-    const Vertex& v = image.vertices[i];
-    for (float c : {v.x, v.y, v.r, v.g, v.b})
-      if (!std::isfinite(c))
-        return Status(StatusCode::kNonFinite,
-                      "image to compress: vertex " + std::to_string(i) + " is not finite");
-  }
+  // The one validation of every reader and writer: values a real image has, a manifold,
+  // unfolded mesh (on the sets in normal form, and without the feature layer when it
+  // does not travel). Then what the payload needs besides.
+  SDVI_RETURN_IF_ERROR(ValidateImage(ValidationView(image, feature_layer), "image to compress"));
   for (size_t t = 0; t < image.triangles.size(); ++t)
     for (uint32_t v : image.triangles[t].v)
       if (v >= n)
@@ -415,16 +455,17 @@ Status RenumberVertices(const std::vector<uint32_t>& new_index_of_vertex, Image*
 
 StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const CompressOptions& options,
                                                   std::vector<uint32_t>* new_index_of_vertex) {
-  if (options.position_bits < 0 || options.position_bits > 30)
+  const std::string bit_range = " not in 1.." + std::to_string(kMaxQuantizationBits) + " (0 = default)";
+  if (options.position_bits < 0 || options.position_bits > kMaxQuantizationBits)
     return Status(StatusCode::kInvalidArgument,
-                  "position bits " + std::to_string(options.position_bits) + " not in 1..30 (0 = default)");
-  if (options.color_bits < 0 || options.color_bits > 30)
+                  "position bits " + std::to_string(options.position_bits) + bit_range);
+  if (options.color_bits < 0 || options.color_bits > kMaxQuantizationBits)
     return Status(StatusCode::kInvalidArgument,
-                  "colour bits " + std::to_string(options.color_bits) + " not in 1..30 (0 = default)");
+                  "colour bits " + std::to_string(options.color_bits) + bit_range);
   if (options.speed < 0 || options.speed > 10)
     return Status(StatusCode::kInvalidArgument,
                   "speed " + std::to_string(options.speed) + " not in 0..10");
-  SDVI_RETURN_IF_ERROR(ValidateForEncoding(image));
+  SDVI_RETURN_IF_ERROR(ValidateForEncoding(image, options.feature_layer));
   if (options.feature_layer) SDVI_RETURN_IF_ERROR(ValidateFeatureLayer(image));
   const uint32_t n = static_cast<uint32_t>(image.vertices.size());
 
@@ -556,8 +597,13 @@ Status DecodeDracoPayload(std::span<const uint8_t> payload, const std::string& s
                           Image* image, uint64_t max_vertices) {
   SDVI_ASSIGN_OR_RETURN(Header h, ParseHeader(payload, source_name));
   const std::string what = source_name + ": Draco payload";
-  if (PayloadCrc(payload) != h.crc)
+  if (PayloadCrc(payload) != h.crc && kRejectBadChecksum)
     return Status(StatusCode::kCorrupt, what + " fails its CRC-32 check (damaged bytes)");
+  if (h.position_bits > kMaxQuantizationBits || h.color_bits > kMaxQuantizationBits)
+    return Status(StatusCode::kLimitExceeded,
+                  what + " says " + std::to_string(h.position_bits) + " position and " +
+                      std::to_string(h.color_bits) + " colour bits; at most " +
+                      std::to_string(kMaxQuantizationBits) + " are read");
   if (h.vertex_count > max_vertices || h.triangle_count > 4 * max_vertices)
     return Status(StatusCode::kLimitExceeded,
                   what + " has " + std::to_string(h.vertex_count) + " vertices and " +

@@ -58,11 +58,7 @@ StatusOr<Image> DecodeImage(std::span<const uint8_t> bytes, const std::string& s
 }
 
 StatusOr<Image> ReadImage(const std::string& path, const ReadOptions& options) {
-  SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, ReadFileBytes(path));
-  if (bytes.size() > options.max_file_bytes)
-    return Status(StatusCode::kLimitExceeded,
-                  path + ": " + std::to_string(bytes.size()) + " bytes exceed the limit of " +
-                      std::to_string(options.max_file_bytes));
+  SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, ReadFileBytes(path, options.max_file_bytes));
   return DecodeImage(bytes, path, options);
 }
 

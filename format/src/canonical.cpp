@@ -3,6 +3,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -146,6 +147,8 @@ Status ValidateImageParts(const Image& image, const std::string& source, bool ha
                         ", " + std::to_string(v[1]) + ", " + std::to_string(v[2]) +
                         ") repeats a vertex");
   }
+  SDVI_RETURN_IF_ERROR(ValidateValues(image, source));
+  SDVI_RETURN_IF_ERROR(ValidateTopology(image, source));
   if (!image.crease_edges.empty()) {
     for (size_t i = 0; i < image.crease_edges.size(); ++i) {
       const Edge& e = image.crease_edges[i];
@@ -206,10 +209,13 @@ Status ValidateImageParts(const Image& image, const std::string& source, bool ha
     if (!std::isfinite(pair.sharpness))
       return Status(StatusCode::kNonFinite,
                     source + ": feature pair " + std::to_string(i) + " has a non-finite sharpness");
-    if (pair.sharpness < 0.f || pair.sharpness > 1.f)
-      return Status(StatusCode::kInvalidArgument,
-                    source + ": feature pair " + std::to_string(i) + " has sharpness " +
-                        std::to_string(pair.sharpness) + ", expected a value in [0, 1]");
+    if (pair.sharpness < 0.f || pair.sharpness > 1.f) {
+      char value[32];
+      std::snprintf(value, sizeof value, "%g", double(pair.sharpness));
+      return Status(StatusCode::kValueOutOfRange,
+                    source + ": feature pair " + std::to_string(i) + " has sharpness " + value +
+                        ", expected a value in [0, 1]");
+    }
   }
   return Status::Ok();
 }

@@ -515,13 +515,7 @@ StatusOr<SdviFile> DecodeSdvi(std::span<const uint8_t> input, const std::string&
 }
 
 StatusOr<SdviFile> ReadSdviFile(const std::string& path, const ReadOptions& options) {
-  std::error_code ec;
-  const auto size = std::filesystem::file_size(path, ec);
-  if (!ec && size > options.max_file_bytes)
-    return Status(StatusCode::kLimitExceeded,
-                  path + ": " + std::to_string(size) + " bytes exceed the limit of " +
-                      std::to_string(options.max_file_bytes));
-  SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, ReadFileBytes(path));
+  SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, ReadFileBytes(path, options.max_file_bytes));
   return DecodeSdvi(bytes, path, options);
 }
 

@@ -34,6 +34,17 @@ bool SetsAreNormalized(const Image& image);
 // Makes crease_edges and corners so (Edge::Of, sort, unique).
 void NormalizeSets(Image& image);
 
+// A vertex opposite an edge counts as across it when farther than this (pixels; plus
+// float rounding at the image's scale): spec/FORMAT.md section 9, check 24.
+inline constexpr double kFoldTolerance = 1.0 / 1024;
+
+// Checks 19-21 of spec/FORMAT.md section 9: size, coordinate and colour ranges. Expects
+// finite values.
+Status ValidateValues(const Image& image, const std::string& source);
+// Checks 22-24: duplicate triangles, non-manifold edges, orientation, folds. Expects
+// indices in range and no degenerate triangle.
+Status ValidateTopology(const Image& image, const std::string& source);
+
 // ValidateImage; with has_mesh false (a compressed payload holds the mesh) the feature
 // layer's vertex indices are not checked against the (absent) vertices.
 Status ValidateImageParts(const Image& image, const std::string& source, bool has_mesh);

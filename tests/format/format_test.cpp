@@ -357,7 +357,9 @@ TEST_CASE("the writer refuses invalid images with specific codes") {
   CHECK(EncodeSdvi(image).status().code() == StatusCode::kIndexOutOfRange);
   image.polylines.push_back({{1, 2}, false});
   image.pairs[0].sharpness = 1.5f;
-  CHECK(EncodeSdvi(image).status().code() == StatusCode::kInvalidArgument);
+  CHECK(EncodeSdvi(image).status().code() == StatusCode::kValueOutOfRange);
+  image.pairs[0].sharpness = -1e-30f;  // once reported as "-0.000000"
+  CHECK(EncodeSdvi(image).status().message().find("sharpness -1e-30") != std::string::npos);
   image = Grid(2);
   image.width = 0;
   CHECK(EncodeSdvi(image).status().code() == StatusCode::kEmptyInput);

@@ -12,8 +12,9 @@
 namespace sdvi {
 namespace {
 
-// A mesh with open and closed feature polylines, interior corners, a pair, and floats
-// drawn from all finite bit patterns (denormals, -0, huge and tiny values included).
+// A mesh with open and closed feature polylines, interior corners, a pair, and colours
+// drawn from all bit patterns of the colour range ValidateImage allows (denormals, -0,
+// the range's ends and tiny values included).
 Image AwkwardMesh() {
   Image image = test::Grid(5);  // 36 vertices
   std::mt19937 rng(20140801);
@@ -24,15 +25,15 @@ Image AwkwardMesh() {
       do {
         const uint32_t bits = rng();
         std::memcpy(&f, &bits, sizeof f);
-      } while (!std::isfinite(f));
+      } while (!(f >= sdvi::kMinColor && f <= sdvi::kMaxColor));
       c[k] = f;
     }
   }
   image.vertices[0].r = -0.f;
   image.vertices[1].g = std::numeric_limits<float>::denorm_min();
-  image.vertices[2].b = std::numeric_limits<float>::max();
+  image.vertices[2].b = sdvi::kMaxColor;
   image.vertices[3].r = 0.1f;
-  image.vertices[4].g = 16777216.f;
+  image.vertices[4].g = sdvi::kMinColor;
   auto id = [](uint32_t x, uint32_t y) { return y * 6 + x; };
   FeaturePolyline open{{id(1, 1), id(2, 1), id(3, 1)}, false};
   FeaturePolyline open2{{id(1, 2), id(2, 2), id(3, 2)}, false};

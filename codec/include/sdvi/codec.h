@@ -33,9 +33,17 @@
 
 namespace sdvi {
 
+// Largest quantization (bits per component) the codec uses or accepts. Draco's entropy
+// coder keeps tables of about 2^(bits + 1) entries per attribute, so memory doubles with
+// every bit whatever the mesh size (measured on a 1,681-vertex mesh at speed 0: 20 bits
+// 26 MB, 22 bits 88 MB, 24 bits 0.4 GB; 30 bits was killed past 23 GB). 24 bits bounds it
+// (spec/FORMAT.md 8.2) and still steps 1/21 px over the largest image an .sdvi file holds
+// with its margins (3 x 262144 px).
+inline constexpr int kMaxQuantizationBits = 24;
+
 struct CompressOptions {
-  int position_bits = 0;  // 1..30; 0 = from the image size (DefaultPositionBits)
-  int color_bits = 0;     // 1..30; 0 = from the colour range (DefaultColorBits)
+  int position_bits = 0;  // 1..kMaxQuantizationBits; 0 = from the image size (DefaultPositionBits)
+  int color_bits = 0;     // 1..kMaxQuantizationBits; 0 = from the colour range (DefaultColorBits)
   int speed = 0;          // Draco encoding/decoding speed 0 (smallest) .. 10 (fastest)
   bool keep_vertex_order = false;  // store original vertex ids (costs bytes)
   bool feature_layer = true;       // carry polylines and pairs in the payload (compactly)
@@ -48,7 +56,8 @@ struct CompressOptions {
   double reference_mse = 0;
 };
 
-// Default position quantization: the smallest bit count (at least 8) whose step over
+// Default position quantization: the smallest bit count (at least 8, at most
+// kMaxQuantizationBits) whose step over
 // max(width, height, extent of the vertex positions) is at most s_p. Without a reference
 // MSE s_p = 1/128 px (17 bits for 512 x 512), safe for fits up to ~57 dB: colour-
 // discontinuity pairs can be a fraction of a pixel apart, so positions need fine steps
@@ -60,7 +69,7 @@ struct CompressOptions {
 // graphics) + s_c^2 / 24 (colour step s_c) to the MSE; each gets half of 0.01 M (a PSNR
 // drop of ~0.043 dB): s_p = sqrt(0.01 M / 26) clamped to [1/512, 1/4] px.
 int DefaultPositionBits(const Image& image, double reference_mse = 0);
-// Default colour quantization: the smallest bit count (at least 8) whose step over the
+// Default colour quantization: the smallest bit count (8 .. kMaxQuantizationBits) whose step over the
 // colour range of the vertices is at most s_c: 1/8 of an 8-bit level without a reference
 // MSE (11 bits for 0..255; control colours overshoot 0..255), with one
 // s_c = sqrt(0.12 M) clamped to [1/32, 4] levels.
@@ -77,8 +86,9 @@ ErrorBound CompressionErrorBound(const Image& image, int position_bits, int colo
 // Encodes the control mesh and tags of image. If new_index_of_vertex is given it
 // receives, for every original vertex i, its index in the decoded image (the identity
 // when the vertex order is kept). Fails with kInvalidArgument for bad options,
-// kIndexOutOfRange / kCreaseNotAnEdge / kNonFinite / kEmptyInput for an image that cannot
-// be encoded, kEncodeFailed when Draco fails or does not round trip.
+// ValidateImage's codes (kIndexOutOfRange, kCreaseNotAnEdge, kNonFinite,
+// kValueOutOfRange, kFoldedTriangle, ...) or kEmptyInput for an image that cannot be
+// encoded, kEncodeFailed when Draco fails or does not round trip.
 StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image,
                                                   const CompressOptions& options,
                                                   std::vector<uint32_t>* new_index_of_vertex = nullptr);

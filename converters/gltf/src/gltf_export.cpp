@@ -270,10 +270,10 @@ Status CheckOptions(const GltfExportOptions& options) {
   }
   for (auto [name, bits] : {std::pair{"position", options.position_bits},
                             std::pair{"color", options.color_bits}}) {
-    if (bits < 1 || bits > 30) {
+    if (bits < 1 || bits > kMaxGltfDracoBits) {
       return Status(StatusCode::kInvalidArgument,
                     std::string("glTF export: Draco ") + name + " quantization bits " +
-                        std::to_string(bits) + " is outside 1..30");
+                        std::to_string(bits) + " is outside 1.." + std::to_string(kMaxGltfDracoBits));
     }
   }
   if (options.draco_speed < 0 || options.draco_speed > 10) {

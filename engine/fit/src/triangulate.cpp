@@ -182,6 +182,9 @@ StatusOr<Image> BuildControlMesh(int width, int height, const std::vector<Featur
     const double bound = std::sin(angle) * std::sin(angle);  // 20 deg -> ~0.117 (CGAL: B <= 0.125)
     const double min_length = 0.5 * std::min(options.clearance, options.min_distance);
     mesher.set_criteria(MeshCriteria(std::min(0.125, bound), placed.max_edge, min_length));
+    // CGAL leaves the mesher's seeds_mark uninitialised until seeds are set or cleared;
+    // init reads it (an invalid bool load under UBSan): clear the (empty) seeds first.
+    mesher.clear_seeds();
     mesher.init(placed.object_mode);  // false: marks the convex hull
     mesher.refine_mesh();
     if (placed.object_mode) {

@@ -27,6 +27,8 @@ std::string_view StatusCodeName(StatusCode code) {
     case StatusCode::kEmptyInput: return "empty_input";
     case StatusCode::kInternal: return "internal";
     case StatusCode::kEditRefused: return "edit_refused";
+    case StatusCode::kValueOutOfRange: return "value_out_of_range";
+    case StatusCode::kFoldedTriangle: return "folded_triangle";
   }
   return "unknown";
 }

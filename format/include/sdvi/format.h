@@ -32,13 +32,25 @@ inline constexpr uint16_t kSdviVersionMinor = 0;
 // Largest vertex count of the narrow profile (uint16 triangle indices).
 inline constexpr uint32_t kNarrowProfileMaxVertices = 65535;
 
+// Values a real image has (spec/FORMAT.md section 9, checks 19-21); ValidateImage
+// refuses anything else, so every reader and writer refuses it.
+// Width and height: 1 .. kMaxImageSide pixels (kLimitExceeded).
+inline constexpr uint32_t kMaxImageSide = 1u << 18;  // 262144 pixels
+// Control vertices lie within one image size of the image: with S = max(width, height),
+// x in [-S, width + S] and y in [-S, height + S] (kValueOutOfRange). The limit surface
+// interpolates the boundary, so control vertices of a fitted image stay near it.
+// Colours (0..255 scale) may overshoot, as least-squares control colours do near sharp
+// edges, but by at most kColorMargin on either side (kValueOutOfRange).
+inline constexpr float kColorMargin = 1024.0f;
+inline constexpr float kMinColor = -kColorMargin, kMaxColor = 255.0f + kColorMargin;
+
 // Limits a reader enforces before allocating anything (kLimitExceeded beyond them).
 struct ReadOptions {
   uint64_t max_file_bytes = uint64_t{1} << 30;  // 1 GiB
   uint32_t max_vertices = 50'000'000;
   uint32_t max_triangles = 100'000'000;
-  uint32_t max_width = 1u << 18;   // 262144 pixels
-  uint32_t max_height = 1u << 18;
+  uint32_t max_width = kMaxImageSide;
+  uint32_t max_height = kMaxImageSide;
 };
 
 enum class PayloadKind { kRaw, kDraco };
@@ -91,11 +103,16 @@ StatusOr<SdviFile> ReadSdviFile(const std::string& path, const ReadOptions& opti
 // Encodes image (raw payload) and writes it atomically: nothing is left on failure.
 Status WriteSdvi(const std::string& path, const Image& image);
 
-// Semantic checks shared by reader and writer: width and height positive (kEmptyInput),
-// finite coordinates and colours (kNonFinite), vertex indices in range (kIndexOutOfRange),
-// no repeated vertex in a triangle (kDegenerateTriangle), crease edges with a < b, sorted,
-// unique and each an edge of some triangle (kCreaseNotAnEdge / kInvalidArgument), corners
-// sorted and unique, feature pairs naming existing polylines with sharpness in [0,1].
+// The one validation every reader and writer applies (spec/FORMAT.md section 9): width
+// and height positive (kEmptyInput) and at most kMaxImageSide (kLimitExceeded), finite
+// coordinates and colours (kNonFinite) within the ranges above (kValueOutOfRange), vertex
+// indices in range (kIndexOutOfRange), no repeated vertex in a triangle
+// (kDegenerateTriangle), no two triangles on the same vertices (kDuplicateTriangle), at
+// most two triangles on an edge (kNonManifoldEdge), the two triangles of an edge
+// traversing it in opposite directions (kInvalidMesh) and lying on opposite sides of it
+// (kFoldedTriangle), crease edges with a < b, sorted, unique and each an edge of some
+// triangle (kCreaseNotAnEdge / kInvalidArgument), corners sorted and unique, feature
+// pairs naming existing polylines with sharpness in [0,1].
 Status ValidateImage(const Image& image, const std::string& source_name);
 
 // Returns image in canonical form (see the top of this file): triangles partitioned and

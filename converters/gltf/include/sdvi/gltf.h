@@ -36,8 +36,8 @@ enum class GltfContainer {
 struct GltfExportOptions {
   int levels = -1;           // subdivision level r in [0, kMaxGltfLevels]; -1 = DefaultGltfLevels
   bool draco = false;        // KHR_draco_mesh_compression for the surface mesh
-  int position_bits = 14;    // Draco quantization bits of POSITION, 1..30
-  int color_bits = 12;       // Draco quantization bits of COLOR_0 (linear light), 1..30
+  int position_bits = 14;    // Draco quantization bits of POSITION, 1..kMaxGltfDracoBits
+  int color_bits = 12;       // Draco quantization bits of COLOR_0 (linear light), 1..kMaxGltfDracoBits
   int draco_speed = 3;       // Draco encoder/decoder speed 0 (smallest) .. 10 (fastest)
   bool control_mesh = false; // add the control mesh node (triangles + crease LINES)
   GltfContainer container = GltfContainer::kBinary;
@@ -50,6 +50,9 @@ struct GltfExportOptions {
 
 // The largest level accepted, and the fine-triangle budget of an explicit level.
 inline constexpr int kMaxGltfLevels = 8;
+// Largest Draco quantization accepted: Draco's entropy coder keeps tables of about
+// 2^(bits + 1) entries, so memory doubles per bit (24 bits: about 0.4 GB at speed 0; 30 bits: more than 16 GB).
+inline constexpr int kMaxGltfDracoBits = 24;
 inline constexpr uint64_t kMaxGltfFineTriangles = uint64_t(1) << 25;
 
 // What an export produced.

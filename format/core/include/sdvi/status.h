@@ -37,6 +37,8 @@ enum class StatusCode : int {
   kEmptyInput = 20,         // an empty image, mesh or file
   kInternal = 21,           // a broken invariant inside sdvi (a bug)
   kEditRefused = 22,        // an edit would fold, degenerate or cross the mesh (nothing written)
+  kValueOutOfRange = 23,    // a finite value no real image has (spec/FORMAT.md 9)
+  kFoldedTriangle = 24,     // two triangles of an edge lie on the same side of it
 };
 
 // Stable lower_snake name of a code, e.g. "wrong_identifier" (used in --json output).

@@ -1,0 +1,130 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Value and topology checks of ValidateImage (format.h; spec/FORMAT.md section 9,
+// checks 19-24): what a real image has, beyond what the structure allows.
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <cmath>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "format_internal.h"
+#include "sdvi/format.h"
+
+namespace sdvi::format_internal {
+namespace {
+
+std::string Num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+std::string TriangleText(size_t t, const Triangle& tri) {
+  return "triangle " + std::to_string(t) + " (" + std::to_string(tri.v[0]) + ", " +
+         std::to_string(tri.v[1]) + ", " + std::to_string(tri.v[2]) + ")";
+}
+
+// Twice the signed area of (a, b, p): > 0 when p is left of a->b.
+double Side(const Vertex& a, const Vertex& b, const Vertex& p) {
+  return (double(b.x) - a.x) * (double(p.y) - a.y) - (double(b.y) - a.y) * (double(p.x) - a.x);
+}
+
+}  // namespace
+
+Status ValidateValues(const Image& image, const std::string& source) {
+  if (image.width > kMaxImageSide || image.height > kMaxImageSide)
+    return Status(StatusCode::kLimitExceeded,
+                  source + ": image size " + std::to_string(image.width) + " x " +
+                      std::to_string(image.height) + " exceeds the largest an .sdvi file holds (" +
+                      std::to_string(kMaxImageSide) + " x " + std::to_string(kMaxImageSide) + ")");
+  const double s = std::max(image.width, image.height);
+  const double x_lo = -s, x_hi = image.width + s, y_lo = -s, y_hi = image.height + s;
+  for (size_t i = 0; i < image.vertices.size(); ++i) {
+    const Vertex& v = image.vertices[i];
+    if (!(v.x >= x_lo && v.x <= x_hi && v.y >= y_lo && v.y <= y_hi))
+      return Status(StatusCode::kValueOutOfRange,
+                    source + ": vertex " + std::to_string(i) + " lies at (" + Num(v.x) + ", " +
+                        Num(v.y) + "), more than one image size outside the " +
+                        std::to_string(image.width) + " x " + std::to_string(image.height) +
+                        " image (allowed: x in [" + Num(x_lo) + ", " + Num(x_hi) + "], y in [" +
+                        Num(y_lo) + ", " + Num(y_hi) + "])");
+    for (float c : {v.r, v.g, v.b})
+      if (!(c >= kMinColor && c <= kMaxColor))
+        return Status(StatusCode::kValueOutOfRange,
+                      source + ": vertex " + std::to_string(i) + " has colour (" + Num(v.r) + ", " +
+                          Num(v.g) + ", " + Num(v.b) + "); components must lie in [" +
+                          Num(kMinColor) + ", " + Num(kMaxColor) + "]");
+  }
+  return Status::Ok();
+}
+
+Status ValidateTopology(const Image& image, const std::string& source) {
+  const std::vector<Triangle>& tris = image.triangles;
+  // The same vertex set twice, in any order or orientation.
+  {
+    std::vector<std::pair<std::array<uint32_t, 3>, uint32_t>> keys(tris.size());
+    for (size_t t = 0; t < tris.size(); ++t) {
+      std::array<uint32_t, 3> k = tris[t].v;
+      std::sort(k.begin(), k.end());
+      keys[t] = {k, static_cast<uint32_t>(t)};
+    }
+    std::sort(keys.begin(), keys.end());
+    for (size_t i = 1; i < keys.size(); ++i)
+      if (keys[i].first == keys[i - 1].first)
+        return Status(StatusCode::kDuplicateTriangle,
+                      source + ": " + TriangleText(keys[i].second, tris[keys[i].second]) +
+                          " has the same vertices as triangle " + std::to_string(keys[i - 1].second));
+  }
+  // Edges as (smaller, larger, triangle, position of the edge in the triangle).
+  struct Record {
+    uint32_t a, b, t, k;
+    bool operator<(const Record& o) const { return std::tie(a, b, t) < std::tie(o.a, o.b, o.t); }
+  };
+  std::vector<Record> records(3 * tris.size());
+  for (size_t t = 0; t < tris.size(); ++t)
+    for (uint32_t k = 0; k < 3; ++k) {
+      const Edge e = Edge::Of(tris[t].v[k], tris[t].v[(k + 1) % 3]);
+      records[3 * t + k] = {e.a, e.b, static_cast<uint32_t>(t), k};
+    }
+  std::sort(records.begin(), records.end());
+  // Float coordinates of a fitted mesh: a vertex may sit a rounding error across an edge.
+  const double tolerance = kFoldTolerance + std::ldexp(double(std::max(image.width, image.height)), -22);
+  for (size_t i = 0; i < records.size();) {
+    size_t j = i;
+    while (j < records.size() && records[j].a == records[i].a && records[j].b == records[i].b) ++j;
+    const std::string edge = "edge (" + std::to_string(records[i].a) + ", " + std::to_string(records[i].b) + ")";
+    if (j - i > 2)
+      return Status(StatusCode::kNonManifoldEdge,
+                    source + ": " + edge + " is shared by " + std::to_string(j - i) +
+                        " triangles (" + std::to_string(records[i].t) + ", " +
+                        std::to_string(records[i + 1].t) + ", " + std::to_string(records[i + 2].t) +
+                        (j - i > 3 ? ", ..." : "") + "); at most two are allowed");
+    if (j - i == 2) {
+      const Record& r0 = records[i];
+      const Record& r1 = records[i + 1];
+      const Triangle& t0 = tris[r0.t];
+      const Triangle& t1 = tris[r1.t];
+      if (t0.v[r0.k] == t1.v[r1.k])
+        return Status(StatusCode::kInvalidMesh,
+                      source + ": triangles " + std::to_string(r0.t) + " and " + std::to_string(r1.t) +
+                          " traverse " + edge +
+                          " in the same direction (the orientation is not consistent)");
+      const Vertex& a = image.vertices[r0.a];
+      const Vertex& b = image.vertices[r0.b];
+      const double length = std::hypot(double(b.x) - a.x, double(b.y) - a.y);
+      const double d0 = Side(a, b, image.vertices[t0.v[(r0.k + 2) % 3]]);
+      const double d1 = Side(a, b, image.vertices[t1.v[(r1.k + 2) % 3]]);
+      if (d0 * d1 > 0 && std::min(std::abs(d0), std::abs(d1)) > tolerance * length)
+        return Status(StatusCode::kFoldedTriangle,
+                      source + ": " + TriangleText(r0.t, t0) + " and " + TriangleText(r1.t, t1) +
+                          " lie on the same side of their shared " + edge +
+                          " (the mesh folds over itself)");
+    }
+    i = j;
+  }
+  return Status::Ok();
+}
+
+}  // namespace sdvi::format_internal
