@@ -9,11 +9,16 @@
 // (identical samples) and comparable decode time.
 #include "sdvi/raster_io.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <exception>
 #include <memory>
+#include <mutex>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -110,8 +115,20 @@ StatusOr<Raster> ReadPixels(OIIO::ImageInput& in, const std::string& name, Raste
                                                    : OIIO::TypeDesc::UINT16;
   const size_t pixels = size_t(spec.width) * spec.height, nch = size_t(spec.nchannels);
   std::vector<uint8_t> buffer(pixels * nch * read_type.size());
-  if (!in.read_image(0, 0, 0, spec.nchannels, read_type, buffer.data()))
-    return Status(StatusCode::kDecodeFailed, name + ": cannot decode the pixels: " + in.geterror());
+  // A decoder that met missing or damaged data says so (has_error) even when it returns
+  // what it could decode: that is an error, never a partial image.
+  const bool read = in.read_image(0, 0, 0, spec.nchannels, read_type, buffer.data());
+  if (!read || in.has_error()) {
+    std::string why = in.geterror();
+    for (char& c : why)
+      if (c == '\n') c = ' ';
+    const bool ended = why.find("Premature end") != std::string::npos || why.find("premature end") != std::string::npos ||
+                       why.find("Read Error") != std::string::npos || why.find("Not enough") != std::string::npos ||
+                       why.find("end of file") != std::string::npos || why.find("truncated") != std::string::npos;
+    return Status(ended ? StatusCode::kTruncated : StatusCode::kDecodeFailed,
+                  name + (ended ? ": the data ends early: " : ": cannot decode the pixels: ") +
+                      (why.empty() ? std::string("the decoder failed") : why));
+  }
   const int colours = int(pick.colour.size());
   Raster out(spec.width, spec.height, colours + (pick.alpha >= 0 ? 1 : 0));
   // Straight alpha unless the file stores it premultiplied (OpenEXR's convention).
@@ -190,11 +207,77 @@ void ApplyIccProfile(const OIIO::ImageSpec& spec, Raster& raster, const std::str
   source.icc_converted = converted->converted;
 }
 
+// What the decoders inside OpenImageIO (libpng's default handlers, libtiff) print to
+// standard error while one image is decoded: captured, so that it becomes part of our
+// Status or RasterSource::warnings instead of raw text on the terminal. Decodes are
+// serialised while captured (standard error is one per process).
+class CapturedStderr {
+ public:
+  CapturedStderr() : lock_(Mutex()) {
+    std::fflush(stderr);
+    file_ = std::tmpfile();
+    saved_ = file_ ? ::dup(STDERR_FILENO) : -1;
+    if (saved_ >= 0) ::dup2(::fileno(file_), STDERR_FILENO);
+  }
+  ~CapturedStderr() { Restore(); }
+  CapturedStderr(const CapturedStderr&) = delete;
+  CapturedStderr& operator=(const CapturedStderr&) = delete;
+  // Restores standard error; returns what was written (at most 4 KB, one line).
+  std::string Restore() {
+    std::string text;
+    if (saved_ >= 0) {
+      std::fflush(stderr);
+      ::dup2(saved_, STDERR_FILENO);
+      ::close(saved_);
+      saved_ = -1;
+      std::rewind(file_);
+      char buf[4096];
+      text.assign(buf, std::fread(buf, 1, sizeof buf, file_));
+    }
+    if (file_) std::fclose(file_);
+    file_ = nullptr;
+    while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
+    for (char& c : text)
+      if (c == '\n') c = ';';
+    return text;
+  }
+
+ private:
+  static std::mutex& Mutex() {
+    static std::mutex m;
+    return m;
+  }
+  std::lock_guard<std::mutex> lock_;
+  std::FILE* file_ = nullptr;
+  int saved_ = -1;
+};
+
 }  // namespace
 
+// DecodeRaster's work, while standard error is captured.
+static StatusOr<Raster> DecodeCaptured(const std::vector<uint8_t>& bytes, const std::string& name,
+                                const RasterLimits& limits, RasterSource* source_out);
+
 StatusOr<Raster> DecodeRaster(const std::vector<uint8_t>& bytes, const std::string& name, RasterSource* source_out) {
+  return DecodeRaster(bytes, name, RasterLimits{}, source_out);
+}
+
+StatusOr<Raster> DecodeRaster(const std::vector<uint8_t>& bytes, const std::string& name, const RasterLimits& limits,
+                              RasterSource* source_out) {
   if (bytes.empty()) return Status(StatusCode::kEmptyInput, name + ": the file is empty");
   SDVI_RETURN_IF_ERROR(CheckPngHeader(bytes, name));
+  CapturedStderr capture;
+  StatusOr<Raster> raster = DecodeCaptured(bytes, name, limits, source_out);
+  const std::string said = capture.Restore();
+  if (said.empty()) return raster;
+  if (!raster.ok())
+    return Status(raster.status().code(), raster.status().message() + " (the decoder said: " + said + ")");
+  if (source_out) source_out->warnings.push_back(name + ": the decoder said: " + said);
+  return raster;
+}
+
+static StatusOr<Raster> DecodeCaptured(const std::vector<uint8_t>& bytes, const std::string& name,
+                                       const RasterLimits& limits, RasterSource* source_out) {
   RasterSource source;
   try {
     // The bytes are read through an IOProxy; with a config, OpenImageIO 2.4 takes the proxy
@@ -214,9 +297,10 @@ StatusOr<Raster> DecodeRaster(const std::vector<uint8_t>& bytes, const std::stri
     const OIIO::ImageSpec& spec = in->spec();
     if (spec.width <= 0 || spec.height <= 0)
       return Status(StatusCode::kEmptyInput, name + ": the header says " + SizeText(spec.width, spec.height));
-    if (uint64_t(spec.width) * uint64_t(spec.height) > kMaxPixels || spec.depth > 1)
+    if (uint64_t(spec.width) * uint64_t(spec.height) > std::min(kMaxPixels, limits.max_pixels) || spec.depth > 1)
       return Status(StatusCode::kLimitExceeded,
-                    name + ": " + SizeText(spec.width, spec.height) + " pixels is over the limit of 2^28");
+                    name + ": " + SizeText(spec.width, spec.height) + " pixels is over the limit of " +
+                        std::to_string(std::min(kMaxPixels, limits.max_pixels)));
     SDVI_ASSIGN_OR_RETURN(Raster raster, ReadPixels(*in, name, source));
     ApplyIccProfile(spec, raster, name, source);
     source.orientation = std::clamp(spec.get_int_attribute("Orientation", 1), 1, 8);
@@ -224,6 +308,8 @@ StatusOr<Raster> DecodeRaster(const std::vector<uint8_t>& bytes, const std::stri
     raster = DropAlphaOfOpaqueGif(std::move(raster), source.format);
     if (source_out) *source_out = std::move(source);
     return raster;
+  } catch (const std::bad_alloc&) {
+    return Status(StatusCode::kLimitExceeded, name + ": out of memory while decoding the image");
   } catch (const std::exception& e) {
     return Status(StatusCode::kDecodeFailed, name + ": cannot decode the image: " + e.what());
   }

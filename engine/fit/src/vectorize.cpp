@@ -6,6 +6,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <exception>
+#include <new>
 #include <numeric>
 #include <string>
 #include <unordered_map>
@@ -385,17 +387,36 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
   return result;
 }
 
+// VectorizeFrom with no exception escaping: running out of memory (std::bad_alloc, or
+// OpenCV's out-of-memory error) is kLimitExceeded, any other exception from a dependency
+// kInternal, each with what it said.
+StatusOr<VectorizeResult> VectorizeGuarded(const Raster& raster, const Raster* mask,
+                                           const std::vector<FeatureCurve>* given,
+                                           const VectorizeOptions& options) {
+  const std::string size = std::to_string(raster.width) + "x" + std::to_string(raster.height);
+  try {
+    return VectorizeFrom(raster, mask, given, options);
+  } catch (const std::bad_alloc&) {
+    return Status(StatusCode::kLimitExceeded, "vectorize: out of memory on the " + size + " image");
+  } catch (const std::exception& e) {
+    const std::string what = e.what();
+    if (what.find("Insufficient memory") != std::string::npos || what.find("Failed to allocate") != std::string::npos)
+      return Status(StatusCode::kLimitExceeded, "vectorize: out of memory on the " + size + " image (" + what + ")");
+    return Status(StatusCode::kInternal, "vectorize: a dependency failed on the " + size + " image: " + what);
+  }
+}
+
 }  // namespace
 
 StatusOr<VectorizeResult> Vectorize(const Raster& raster, const Raster* mask,
                                     const VectorizeOptions& options) {
-  return VectorizeFrom(raster, mask, nullptr, options);
+  return VectorizeGuarded(raster, mask, nullptr, options);
 }
 
 StatusOr<VectorizeResult> VectorizeWithFeatures(const Raster& raster, const Raster* mask,
                                                 const std::vector<FeatureCurve>& features,
                                                 const VectorizeOptions& options) {
-  return VectorizeFrom(raster, mask, &features, options);
+  return VectorizeGuarded(raster, mask, &features, options);
 }
 
 Raster ErrorImage(const Raster& reconstruction, const Raster& reference) {

@@ -48,6 +48,16 @@ StatusOr<Raster> LoadRaster(const std::string& path, RasterSource* source = null
 StatusOr<Raster> DecodeRaster(const std::vector<uint8_t>& bytes, const std::string& name,
                               RasterSource* source = nullptr);
 
+// Sizes DecodeRaster checks on the header, before anything is decoded (kLimitExceeded).
+struct RasterLimits {
+  uint64_t max_pixels = uint64_t{1} << 28;  // 16384 x 16384
+};
+// DecodeRaster with explicit limits. Data that ends early or is damaged (the decoder
+// reports an error) is an error (kTruncated / kDecodeFailed with the decoder's words),
+// never a partial image; running out of memory is kLimitExceeded.
+StatusOr<Raster> DecodeRaster(const std::vector<uint8_t>& bytes, const std::string& name,
+                              const RasterLimits& limits, RasterSource* source = nullptr);
+
 // Encodes a PNG (bits 8 or 16) with the raster's channels (grey, grey+alpha, RGB, RGBA),
 // colours clamped to 0..255 and rounded, alpha to 0..1; tagged sRGB (sRGB chunk, with the
 // gAMA and cHRM chunks the PNG specification pairs with it). Deterministic bytes.

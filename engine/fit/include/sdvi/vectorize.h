@@ -114,7 +114,9 @@ struct VectorizeResult {
 
 // Vectorizes raster (grey / RGB, with alpha or a mask for object images: see FitColors for
 // the domain rule). Deterministic: equal inputs and options give equal images.
-// Errors: kEmptyInput, kInvalidArgument (options), errors of the phases it runs.
+// Errors: kEmptyInput, kInvalidArgument (options), errors of the phases it runs;
+// kLimitExceeded when memory runs out (no exception escapes: dependencies' ones become
+// kInternal).
 StatusOr<VectorizeResult> Vectorize(const Raster& raster, const Raster* mask,
                                     const VectorizeOptions& options);
 
