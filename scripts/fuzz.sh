@@ -1,53 +1,67 @@
 #!/usr/bin/env bash
-# Builds a libFuzzer target with clang, ASan and UBSan, writes a seed corpus, and fuzzes
-# for N seconds in one low-priority process. Crashing inputs land in
-# $FUZZ_DIR/artifacts-TARGET.
-#   usage: scripts/fuzz.sh [SECONDS (default 600)] [decode|mesh_json|svg (default decode)]
-#   decode:    the .sdvi reader, DecodeSdvi (fuzz/fuzz_decode.cpp)
-#   mesh_json: the mesh JSON reader, ParseMeshJson (fuzz/fuzz_mesh_json.cpp)
-#   svg:       the SVG importer's input side, LoadSvg + RenderSvg + TraceSvgGeometry
-#              (fuzz/fuzz_svg.cpp; needs librsvg2-dev, libcairo2-dev, libxml2-dev)
-# Needs clang++ (Debian clang 14), flatc, libflatbuffers-dev. Does not use CMake.
+# Builds the libFuzzer targets (clang, ASan + UBSan, every sdvi module instrumented) in
+# their own build directory and fuzzes one target, or all in turn, for SECONDS each in a
+# low-priority process, starting from its committed seed corpus fuzz/corpus/TARGET.
+# New inputs go to $FUZZ_DIR/corpus-TARGET, crashing ones to $FUZZ_DIR/artifacts-TARGET.
+#   usage: scripts/fuzz.sh [SECONDS (default 600; 0 = build only)] [TARGET|all (default all)]
+#   (all: every target but svg, which needs librsvg and runs on its own)
+#   targets: decode         the .sdvi reader, DecodeSdvi (fuzz/fuzz_decode.cpp)
+#            draco_payload  the Draco payload decoder alone, DecodeDracoPayload
+#            compress       decode -> compress (Draco) -> decode, DecodeImage/EncodeImage
+#            mesh_json      the mesh JSON reader, ParseMeshJson
+#            raster         raster decode through the importer, DecodeRaster
+#            svg            the SVG importer's input side, LoadSvg + RenderSvg +
+#                           TraceSvgGeometry (seeds in fuzz/svg_seeds)
+#   env: FUZZ_DIR (default build-fuzz), CXX_FUZZ / CC_FUZZ (default clang++ / clang),
+#        FUZZ_RSS_MB (default 2048), FUZZ_NICE (default 10), FUZZ_QUIET=1 (libFuzzer's log
+#        to FUZZ_DIR/TARGET.log)
+# Needs clang (Debian clang 14 and libclang-rt-14-dev). The ctest tests fuzz.* run it for
+# a few seconds per target.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 RUN_SECONDS=${1:-600}
-TARGET=${2:-decode}
-case "$TARGET" in
-  decode|mesh_json|svg) ;;
-  *) echo "fuzz.sh: unknown target '$TARGET' (decode, mesh_json or svg)" >&2; exit 1 ;;
+WHICH=${2:-all}
+ALL_TARGETS="decode draco_payload compress mesh_json raster"
+case "$WHICH" in
+  all) TARGETS=$ALL_TARGETS ;;
+  decode|draco_payload|compress|mesh_json|raster|svg) TARGETS=$WHICH ;;
+  *) echo "fuzz.sh: unknown target '$WHICH' (one of: $ALL_TARGETS, all)" >&2; exit 1 ;;
 esac
 FUZZ_DIR=${FUZZ_DIR:-build-fuzz}
-CXX=${CXX_FUZZ:-clang++}
-CORPUS="$FUZZ_DIR/corpus-$TARGET"
-ARTIFACTS="$FUZZ_DIR/artifacts-$TARGET"
-mkdir -p "$FUZZ_DIR/generated" "$CORPUS" "$ARTIFACTS"
-flatc --cpp --scoped-enums -o "$FUZZ_DIR/generated" schema/sdvi.fbs
-READER="format/src/format.cpp format/src/canonical.cpp format/core/src/status.cpp format/core/src/file_util.cpp"
-INCLUDES="-Iformat/include -Iformat/core/include -Iconverters/json/include -I$FUZZ_DIR/generated"
-EXTRA=""
-[ "$TARGET" = mesh_json ] && EXTRA="converters/json/src/mesh_json.cpp"
-if [ "$TARGET" = svg ]; then
-  # The importer's input side; librsvg, cairo and libxml2 are linked, not instrumented.
-  INCLUDES="$INCLUDES -Iconverters/svg/include -Iconverters/svg/src -Iengine/fit/include -Iengine/render/include -Iengine/subdiv/include -Iengine/create/include $(pkg-config --cflags librsvg-2.0 cairo-script libxml-2.0 pango)"
-  EXTRA="converters/svg/src/svg_check.cpp converters/svg/src/svg_path_data.cpp converters/svg/src/svg_document.cpp converters/svg/src/svg_trace.cpp $(pkg-config --libs librsvg-2.0 cairo-script libxml-2.0)"
+FLAGS="-fsanitize=address,undefined,fuzzer-no-link -fno-sanitize-recover=undefined"
+FLAGS="$FLAGS -fno-omit-frame-pointer -gline-tables-only -DFUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION"
+if [ ! -f "$FUZZ_DIR/build.ninja" ]; then
+  LAUNCHER=()
+  command -v ccache >/dev/null 2>&1 && LAUNCHER=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+  cmake -S . -B "$FUZZ_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+    -DCMAKE_C_COMPILER="${CC_FUZZ:-clang}" -DCMAKE_CXX_COMPILER="${CXX_FUZZ:-clang++}" \
+    "${LAUNCHER[@]}" -DCMAKE_C_FLAGS="$FLAGS" -DCMAKE_CXX_FLAGS="$FLAGS" \
+    -DSDVI_BUILD_FUZZ=ON -DSDVI_BUILD_TESTS=OFF -DSDVI_BUILD_BENCH=OFF >/dev/null
 fi
-echo "fuzz.sh: building $FUZZ_DIR/fuzz_$TARGET"
+BUILD_TARGETS=""
+for t in $TARGETS; do BUILD_TARGETS="$BUILD_TARGETS fuzz_$t"; done
 # shellcheck disable=SC2086
-$CXX -std=c++20 -O1 -g -DFUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION \
-  -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
-  $INCLUDES "fuzz/fuzz_$TARGET.cpp" $READER $EXTRA -o "$FUZZ_DIR/fuzz_$TARGET"
-if [ "$TARGET" = decode ]; then
-  # shellcheck disable=SC2086
-  $CXX -std=c++20 -O1 $INCLUDES fuzz/make_seeds.cpp $READER -o "$FUZZ_DIR/make_seeds"
-  "$FUZZ_DIR/make_seeds" "$CORPUS"
-  cp tests/data/*.sdvi "$CORPUS/" 2>/dev/null || true
-elif [ "$TARGET" = svg ]; then
-  cp fuzz/svg_seeds/*.svg "$CORPUS/" 2>/dev/null || true
-else
-  cp tests/data/*.json "$CORPUS/" 2>/dev/null || true
-fi
-echo "fuzz.sh: fuzzing $TARGET for ${RUN_SECONDS}s (corpus $CORPUS)"
-# svg: fontconfig/pango keep process-lifetime caches that LeakSanitizer would report.
-[ "$TARGET" = svg ] && export LSAN_OPTIONS="suppressions=$PWD/fuzz/svg_lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
-nice -n 19 "$FUZZ_DIR/fuzz_$TARGET" -max_total_time="$RUN_SECONDS" -max_len=65536 \
-  -print_final_stats=1 -artifact_prefix="$ARTIFACTS/" "$CORPUS"
+cmake --build "$FUZZ_DIR" --target $BUILD_TARGETS -- -j"${FUZZ_JOBS:-2}" >/dev/null
+[ "$RUN_SECONDS" = 0 ] && exit 0
+status=0
+for t in $TARGETS; do
+  CORPUS="$FUZZ_DIR/corpus-$t"
+  ARTIFACTS="$FUZZ_DIR/artifacts-$t"
+  mkdir -p "$CORPUS" "$ARTIFACTS"
+  echo "fuzz.sh: fuzzing $t for ${RUN_SECONDS}s (new inputs in $CORPUS)"
+  SEEDS="fuzz/corpus/$t"
+  [ "$t" = svg ] && SEEDS=fuzz/svg_seeds
+  # svg: fontconfig/pango keep process-lifetime caches that LeakSanitizer would report.
+  if [ "$t" = svg ]; then export LSAN_OPTIONS="suppressions=$PWD/fuzz/svg_lsan.supp"; else unset LSAN_OPTIONS; fi
+  LOG=/dev/stderr
+  [ "${FUZZ_QUIET:-0}" = 1 ] && LOG="$FUZZ_DIR/$t.log"
+  # The first directory receives new inputs; the committed seeds are read only.
+  nice -n "${FUZZ_NICE:-10}" "$FUZZ_DIR/fuzz/fuzz_$t" -max_total_time="$RUN_SECONDS" -max_len=65536 \
+    -rss_limit_mb="${FUZZ_RSS_MB:-2048}" -timeout=60 -print_final_stats=1 \
+    -artifact_prefix="$ARTIFACTS/" "$CORPUS" "$SEEDS" >"$LOG" 2>&1 || {
+    echo "fuzz.sh: $t FAILED (see $LOG and $ARTIFACTS)" >&2
+    [ "${FUZZ_QUIET:-0}" = 1 ] && tail -40 "$LOG" >&2
+    status=1
+  }
+done
+exit $status
