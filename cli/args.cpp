@@ -1,72 +1,65 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "args.h"
 
-#include <charconv>
-#include <cmath>
 #include <cstdio>
-#include <cstdlib>
+#include <new>
+
+#include "sdvi/file_util.h"
 
 namespace sdvi::cli {
 
-StatusOr<Args> Args::Parse(const std::vector<std::string>& args, const ArgSpec& spec) {
-  Args out;
-  for (size_t i = 0; i < args.size(); ++i) {
-    std::string a = args[i];
-    if (a.size() < 2 || a[0] != '-' || a == "--") {
-      out.positional_.push_back(a);
-      continue;
-    }
-    std::optional<std::string> inline_value;
-    if (auto eq = a.find('='); a.rfind("--", 0) == 0 && eq != std::string::npos) {
-      inline_value = a.substr(eq + 1);
-      a = a.substr(0, eq);
-    }
-    if (spec.flags.count(a)) {
-      if (inline_value) return Status(StatusCode::kInvalidArgument, "option " + a + " takes no value");
-      out.flags_.insert(a);
-    } else if (spec.valued.count(a)) {
-      if (inline_value) {
-        out.values_[a] = *inline_value;
-      } else {
-        if (i + 1 >= args.size())
-          return Status(StatusCode::kInvalidArgument, "option " + a + " needs a value");
-        out.values_[a] = args[++i];
-      }
-    } else {
-      return Status(StatusCode::kInvalidArgument, "unknown option " + a);
-    }
-  }
-  return out;
+CLI::App* AddCommand(CLI::App& app, const std::string& name, const std::string& description,
+                     const std::vector<std::string>& examples) {
+  CLI::App* command = app.add_subcommand(name, description);
+  command->option_defaults()->always_capture_default();
+  std::string footer = "\nExamples:";
+  for (const std::string& e : examples) footer += "\n  " + e;
+  footer += "\n\nExit codes: 0 success, 1 failure, 2 usage error.";
+  command->footer(footer);
+  return command;
 }
 
-std::optional<std::string> Args::get(const std::string& name) const {
-  auto it = values_.find(name);
-  if (it == values_.end()) return std::nullopt;
-  return it->second;
+void SetAction(CLI::App* command, Outcome& outcome, std::function<int()> run) {
+  command->callback([command, &outcome, run = std::move(run)] {
+    try {
+      outcome.exit_code = run();
+    } catch (const std::bad_alloc&) {
+      outcome.exit_code = ReportError(command->get_name(),
+                                      Status(StatusCode::kLimitExceeded, "out of memory"));
+    } catch (const std::exception& e) {
+      outcome.exit_code =
+          ReportError(command->get_name(), Status(StatusCode::kInternal, e.what()));
+    }
+  });
 }
 
-StatusOr<int> Args::GetInt(const std::string& name, int fallback) const {
-  auto v = get(name);
-  if (!v) return fallback;
-  int out = 0;
-  auto [p, ec] = std::from_chars(v->data(), v->data() + v->size(), out);
-  if (ec != std::errc() || p != v->data() + v->size())
-    return Status(StatusCode::kInvalidArgument, "option " + name + ": expected an integer, got '" + *v + "'");
-  return out;
+CLI::Option* AddOutput(CLI::App* command, std::string& path, const std::string& what) {
+  return command->add_option("-o,--output", path, what + " ('-' writes standard output)")
+      ->required()
+      ->type_name("FILE");
 }
 
-StatusOr<double> Args::GetDouble(const std::string& name, double fallback) const {
-  auto v = get(name);
-  if (!v) return fallback;
-  char* end = nullptr;
-  double out = std::strtod(v->c_str(), &end);
-  if (v->empty() || *end != '\0' || !std::isfinite(out))
-    return Status(StatusCode::kInvalidArgument, "option " + name + ": expected a number, got '" + *v + "'");
-  return out;
+CLI::Option* AddQuiet(CLI::App* command, bool& quiet) {
+  return command->add_flag("-q,--quiet", quiet, "no progress display and no summary line");
+}
+
+CLI::Option* AddJson(CLI::App* command, bool& json) {
+  return command->add_flag("--json", json, "print the result as JSON on standard output");
 }
 
 int ReportError(const std::string& command, const Status& status) {
   std::fprintf(stderr, "sdvi %s: %s\n", command.c_str(), status.ToString().c_str());
-  return status.code() == StatusCode::kInvalidArgument ? 1 : 2;
+  return kExitFailure;
+}
+
+int ReportUsage(const std::string& command, const std::string& message) {
+  std::fprintf(stderr, "sdvi %s: %s\nRun 'sdvi %s --help' for the options.\n", command.c_str(),
+               message.c_str(), command.c_str());
+  return kExitUsage;
+}
+
+std::FILE* SummaryStream(const std::string& output) {
+  return IsStdStream(output) ? stderr : stdout;
 }
 
 }  // namespace sdvi::cli

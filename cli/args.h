@@ -1,11 +1,11 @@
-// A small argument parser shared by the sdvi subcommands.
-//   positional arguments, "--name value", "--name=value", boolean "--flag", "-o FILE".
-// Each subcommand declares the options it takes; anything else is an error.
+// SPDX-License-Identifier: GPL-3.0-or-later
+// What every sdvi subcommand shares on top of CLI11: the exit codes, how a subcommand is
+// declared (description, options with meanings and defaults, examples), and how errors
+// are reported. README "Exit codes" documents the codes.
 #pragma once
 
-#include <map>
-#include <optional>
-#include <set>
+#include <CLI/CLI.hpp>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -13,31 +13,38 @@
 
 namespace sdvi::cli {
 
-struct ArgSpec {
-  std::set<std::string> valued;  // options that take a value, e.g. "-o", "--levels"
-  std::set<std::string> flags;   // boolean options, e.g. "--json", "--quiet"
+inline constexpr int kExitOk = 0;       // success
+inline constexpr int kExitFailure = 1;  // the work failed: bad input, I/O error, a limit
+inline constexpr int kExitUsage = 2;    // the command line is wrong: unknown option, bad value
+
+// The exit code of the subcommand that ran; its callback sets it.
+struct Outcome {
+  int exit_code = kExitOk;
 };
 
-class Args {
- public:
-  // Parses args (without the subcommand name) against spec.
-  static StatusOr<Args> Parse(const std::vector<std::string>& args, const ArgSpec& spec);
+// Adds subcommand `name` to app with a one-line description and a footer of examples
+// (one command line per entry). Every option added to it shows its default in --help.
+CLI::App* AddCommand(CLI::App& app, const std::string& name, const std::string& description,
+                     const std::vector<std::string>& examples);
 
-  const std::vector<std::string>& positional() const { return positional_; }
-  bool flag(const std::string& name) const { return flags_.count(name) > 0; }
-  std::optional<std::string> get(const std::string& name) const;
-  // Typed getters: the default when absent, kInvalidArgument when malformed.
-  StatusOr<int> GetInt(const std::string& name, int fallback) const;
-  StatusOr<double> GetDouble(const std::string& name, double fallback) const;
+// Makes run the subcommand's action: its return value becomes the exit code; an exception
+// escaping it (a bug or out of memory) is reported as a failure, never a crash.
+void SetAction(CLI::App* command, Outcome& outcome, std::function<int()> run);
 
- private:
-  std::vector<std::string> positional_;
-  std::set<std::string> flags_;
-  std::map<std::string, std::string> values_;
-};
+// Adds "-o,--output FILE" (required) with the given meaning; "-" is standard output.
+CLI::Option* AddOutput(CLI::App* command, std::string& path, const std::string& what);
+// Adds "--quiet" (no progress, no summary line).
+CLI::Option* AddQuiet(CLI::App* command, bool& quiet);
+// Adds "--json" (the result as JSON on standard output).
+CLI::Option* AddJson(CLI::App* command, bool& json);
 
-// Prints "sdvi <command>: <status message>" to stderr and returns the exit code for it
-// (1 for usage errors, 2 for everything else).
+// Prints "sdvi <command>: <code>: <message>" to stderr; returns kExitFailure.
 int ReportError(const std::string& command, const Status& status);
+// Prints "sdvi <command>: <message>" and a pointer to --help to stderr; returns kExitUsage.
+int ReportUsage(const std::string& command, const std::string& message);
+
+// Where a command's human-readable summary goes: stdout, or stderr when stdout carries
+// the output itself ("-o -").
+std::FILE* SummaryStream(const std::string& output);
 
 }  // namespace sdvi::cli

@@ -1,6 +1,9 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // sdvi compress (raw -> Draco payload) and sdvi decompress (any payload -> raw).
 #include <cstdio>
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 #include "args.h"
 #include "commands.h"
@@ -12,15 +15,6 @@
 
 namespace sdvi::cli {
 namespace {
-
-StatusOr<std::string> InputAndOutput(const Args& args, const char* command) {
-  if (args.positional().size() != 1)
-    return Status(StatusCode::kInvalidArgument,
-                  std::string("expected one input file: sdvi ") + command + " IN.sdvi -o OUT.sdvi");
-  if (!args.get("-o"))
-    return Status(StatusCode::kInvalidArgument, "missing -o OUT.sdvi");
-  return args.positional()[0];
-}
 
 // MSE (8-bit units) of image's render at its own size against the reference raster.
 StatusOr<double> ReferenceMse(const Image& image, const std::string& reference_path) {
@@ -37,77 +31,100 @@ StatusOr<double> ReferenceMse(const Image& image, const std::string& reference_p
   return metrics.mse;
 }
 
-}  // namespace
-
-int RunCompress(const CommandArgs& raw_args) {
-  const std::string command = "compress";
-  auto parsed = Args::Parse(raw_args, {{"-o", "--position-bits", "--color-bits", "--speed", "--reference", "--reference-mse"},
-                                       {"--keep-vertex-order", "--quiet"}});
-  if (!parsed.ok()) return ReportError(command, parsed.status());
-  const Args& args = *parsed;
-  auto input = InputAndOutput(args, "compress");
-  if (!input.ok()) return ReportError(command, input.status());
-  const std::string output = *args.get("-o");
+// The options of `sdvi compress` and `sdvi decompress`.
+struct CodecArgs {
+  std::string input, output, reference;
   CompressOptions options;
-  auto position_bits = args.GetInt("--position-bits", 0);
-  auto color_bits = args.GetInt("--color-bits", 0);
-  auto speed = args.GetInt("--speed", 0);
-  auto reference_mse = args.GetDouble("--reference-mse", 0);
-  for (const auto* v : {&position_bits, &color_bits, &speed})
-    if (!v->ok()) return ReportError(command, v->status());
-  if (!reference_mse.ok()) return ReportError(command, reference_mse.status());
-  if (*reference_mse < 0)
-    return ReportError(command, Status(StatusCode::kInvalidArgument, "--reference-mse must be >= 0"));
-  if (args.get("--reference") && args.get("--reference-mse"))
-    return ReportError(command, Status(StatusCode::kInvalidArgument,
-                                       "give --reference IMG or --reference-mse M, not both"));
-  options.reference_mse = *reference_mse;
-  options.position_bits = *position_bits;
-  options.color_bits = *color_bits;
-  options.speed = *speed;
-  options.keep_vertex_order = args.flag("--keep-vertex-order");
-  if (options.position_bits < 0 || options.position_bits > 30 || options.color_bits < 0 ||
-      options.color_bits > 30 || options.speed < 0 || options.speed > 10)
-    return ReportError(command, Status(StatusCode::kInvalidArgument,
-                                       "--position-bits and --color-bits take 1..30, --speed 0..10"));
+  CLI::Option* reference_mse = nullptr;
+  bool quiet = false, json = false;
+};
 
-  auto image = ReadImage(*input);
+int Compress(CodecArgs& a) {
+  const char* command = "compress";
+  if (a.json && IsStdStream(a.output)) return ReportUsage(command, "--json and -o - both use standard output");
+  CompressOptions& options = a.options;
+  auto image = ReadImage(a.input);
   if (!image.ok()) return ReportError(command, image.status());
-  if (auto reference = args.get("--reference")) {
-    auto mse = ReferenceMse(*image, *reference);
+  if (!a.reference.empty()) {
+    auto mse = ReferenceMse(*image, a.reference);
     if (!mse.ok()) return ReportError(command, mse.status());
     options.reference_mse = *mse;
   }
-  auto bytes = EncodeImage(*image, &options, *input);
+  auto bytes = EncodeImage(*image, &options, a.input);
   if (!bytes.ok()) return ReportError(command, bytes.status());
-  if (Status s = WriteFileAtomic(output, *bytes); !s.ok()) return ReportError(command, s);
-  if (!args.flag("--quiet")) {
-    const uint64_t paper = PaperSizeBytes(image->vertices.size(), image->triangles.size());
-    const double pixels = double(image->width) * double(image->height);
-    std::printf("%s: %zu vertices, %zu triangles: %zu bytes (paper raw size %llu, ratio %.3f, "
-                "%.3f bits/pixel, %.2f bytes/vertex; position bits %d, colour bits %d)\n",
-                output.c_str(), image->vertices.size(), image->triangles.size(), bytes->size(),
-                static_cast<unsigned long long>(paper), double(bytes->size()) / double(paper),
-                pixels > 0 ? 8.0 * double(bytes->size()) / pixels : 0.0,
-                double(bytes->size()) / double(image->vertices.size()),
-                options.position_bits ? options.position_bits : DefaultPositionBits(*image, options.reference_mse),
-                options.color_bits ? options.color_bits : DefaultColorBits(*image, options.reference_mse));
+  if (Status s = WriteFileAtomic(a.output, *bytes); !s.ok()) return ReportError(command, s);
+  const uint64_t paper = PaperSizeBytes(image->vertices.size(), image->triangles.size());
+  const double pixels = double(image->width) * double(image->height);
+  const int position_bits =
+      options.position_bits ? options.position_bits : DefaultPositionBits(*image, options.reference_mse);
+  const int color_bits = options.color_bits ? options.color_bits : DefaultColorBits(*image, options.reference_mse);
+  const double bpp = pixels > 0 ? 8.0 * double(bytes->size()) / pixels : 0.0;
+  if (a.json) {
+    nlohmann::ordered_json j;
+    j["output"] = a.output;
+    j["vertices"] = image->vertices.size();
+    j["triangles"] = image->triangles.size();
+    j["bytes"] = bytes->size();
+    j["paper_size_bytes"] = paper;
+    j["bits_per_pixel"] = bpp;
+    j["position_bits"] = position_bits;
+    j["color_bits"] = color_bits;
+    std::printf("%s\n", j.dump(2).c_str());
+  } else if (!a.quiet) {
+    std::fprintf(SummaryStream(a.output),
+                 "%s: %zu vertices, %zu triangles: %zu bytes (paper raw size %llu, ratio %.3f, "
+                 "%.3f bits/pixel, %.2f bytes/vertex; position bits %d, colour bits %d)\n",
+                 a.output.c_str(), image->vertices.size(), image->triangles.size(), bytes->size(),
+                 static_cast<unsigned long long>(paper), double(bytes->size()) / double(paper), bpp,
+                 double(bytes->size()) / double(image->vertices.size()), position_bits, color_bits);
   }
-  return 0;
+  return kExitOk;
 }
 
-int RunDecompress(const CommandArgs& raw_args) {
-  const std::string command = "decompress";
-  auto parsed = Args::Parse(raw_args, {{"-o"}, {"--quiet"}});
-  if (!parsed.ok()) return ReportError(command, parsed.status());
-  const Args& args = *parsed;
-  auto input = InputAndOutput(args, "decompress");
-  if (!input.ok()) return ReportError(command, input.status());
-  auto image = ReadImage(*input);
-  if (!image.ok()) return ReportError(command, image.status());
-  const std::string output = *args.get("-o");
-  if (Status s = WriteImage(output, *image, nullptr); !s.ok()) return ReportError(command, s);
-  return 0;
+int Decompress(const CodecArgs& a) {
+  auto image = ReadImage(a.input);
+  if (!image.ok()) return ReportError("decompress", image.status());
+  if (Status s = WriteImage(a.output, *image, nullptr); !s.ok()) return ReportError("decompress", s);
+  return kExitOk;
+}
+
+}  // namespace
+
+void RegisterCompress(CLI::App& app, Outcome& outcome) {
+  auto a = std::make_shared<CodecArgs>();
+  CompressOptions& o = a->options;
+  CLI::App* c = AddCommand(
+      app, "compress", "re-encode a .sdvi with a Draco payload (quantised positions and colours, edgebreaker)",
+      {"sdvi compress in.sdvi -o small.sdvi",
+       "sdvi compress in.sdvi -o small.sdvi --reference original.png   # quantise from the fit's error",
+       "sdvi compress in.sdvi -o small.sdvi --position-bits 14 --color-bits 8 --speed 0"});
+  c->add_option("input", a->input, "the .sdvi file (any payload; '-' reads standard input)")->required()->type_name("IN.sdvi");
+  AddOutput(c, a->output, "the compressed .sdvi file");
+  c->add_option("--position-bits", o.position_bits, "quantisation bits for x, y (0: automatic)")->check(CLI::Range(0, 30));
+  c->add_option("--color-bits", o.color_bits, "quantisation bits for R, G, B (0: automatic)")->check(CLI::Range(0, 30));
+  c->add_option("--speed", o.speed, "Draco speed: 0 smallest file .. 10 fastest")->check(CLI::Range(0, 10));
+  auto* reference = c->add_option("--reference", a->reference,
+                                  "the original image: the automatic bit depths keep the error added to ~1% of the fit's")
+                        ->type_name("IMG");
+  a->reference_mse = c->add_option("--reference-mse", o.reference_mse,
+                                   "the fit's MSE (8-bit units) instead of --reference (0: none)")
+                         ->check(CLI::Range(0.0, 65025.0))
+                         ->excludes(reference);
+  c->add_flag("--keep-vertex-order", o.keep_vertex_order,
+              "keep the vertex numbering (sequential coding, larger) instead of Draco's edgebreaker order");
+  AddQuiet(c, a->quiet);
+  AddJson(c, a->json);
+  SetAction(c, outcome, [a] { return Compress(*a); });
+}
+
+void RegisterDecompress(CLI::App& app, Outcome& outcome) {
+  auto a = std::make_shared<CodecArgs>();
+  CLI::App* c = AddCommand(app, "decompress", "re-encode a .sdvi with the raw payload",
+                           {"sdvi decompress small.sdvi -o raw.sdvi"});
+  c->add_option("input", a->input, "the .sdvi file (any payload; '-' reads standard input)")->required()->type_name("IN.sdvi");
+  AddOutput(c, a->output, "the raw-payload .sdvi file");
+  AddQuiet(c, a->quiet);
+  SetAction(c, outcome, [a] { return Decompress(*a); });
 }
 
 }  // namespace sdvi::cli

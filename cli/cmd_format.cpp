@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // sdvi convert (mesh JSON <-> .sdvi) and sdvi info (what a .sdvi file holds).
 #include <cstdio>
 #include <map>
@@ -67,34 +68,32 @@ size_t CountCorners(const Image& image) {
   return corners;
 }
 
-}  // namespace
+// The options of `sdvi convert`.
+struct ConvertArgs {
+  std::string input, output;
+};
 
-int RunConvert(const CommandArgs& args) {
-  auto parsed = Args::Parse(args, ArgSpec{});
-  if (!parsed.ok()) return ReportError("convert", parsed.status());
-  if (parsed->positional().size() != 2)
-    return ReportError("convert", Status(StatusCode::kInvalidArgument,
-                                         "expected IN and OUT (IN.json|IN.sdvi OUT.sdvi|OUT.json)"));
-  const std::string& in = parsed->positional()[0];
-  const std::string& out = parsed->positional()[1];
-  auto kind = KindOfOutput(out);
-  if (!kind.ok()) return ReportError("convert", kind.status());
-  auto image = LoadAny(in);
+int Convert(const ConvertArgs& a) {
+  auto kind = KindOfOutput(a.output);
+  if (!kind.ok()) return ReportUsage("convert", kind.status().message());
+  auto image = LoadAny(a.input);
   if (!image.ok()) return ReportError("convert", image.status());
   // Outputs are always in canonical form (sdvi/format.h).
   const Image canonical = CanonicalizeImage(*image);
-  const Status written = *kind == FileKind::kSdvi ? WriteSdvi(out, canonical)
-                                                  : WriteMeshJsonFile(out, canonical);
+  const Status written = *kind == FileKind::kSdvi ? WriteSdvi(a.output, canonical)
+                                                  : WriteMeshJsonFile(a.output, canonical);
   if (!written.ok()) return ReportError("convert", written);
-  return 0;
+  return kExitOk;
 }
 
-int RunInfo(const CommandArgs& args) {
-  auto parsed = Args::Parse(args, ArgSpec{{}, {"--json"}});
-  if (!parsed.ok()) return ReportError("info", parsed.status());
-  if (parsed->positional().size() != 1)
-    return ReportError("info", Status(StatusCode::kInvalidArgument, "expected one FILE.sdvi"));
-  const std::string& path = parsed->positional()[0];
+// The options of `sdvi info`.
+struct InfoArgs {
+  std::string input;
+  bool json = false;
+};
+
+int Info(const InfoArgs& args) {
+  const std::string& path = args.input;
   auto file = ReadSdviFile(path);
   if (!file.ok()) return ReportError("info", file.status());
   const Image& image = file->image;
@@ -164,7 +163,7 @@ int RunInfo(const CommandArgs& args) {
   j["compression_ratio"] = vertices ? static_cast<double>(pixels) / vertices : 0.0;
   j["bits_per_pixel"] = pixels ? 8.0 * file->file_bytes / pixels : 0.0;
 
-  if (parsed->flag("--json")) {
+  if (args.json) {
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
@@ -217,7 +216,29 @@ int RunInfo(const CommandArgs& args) {
   }
   std::printf("compression ratio  %.2f pixels per vertex\n", j["compression_ratio"].get<double>());
   std::printf("bits per pixel     %.3f\n", j["bits_per_pixel"].get<double>());
-  return 0;
+  return kExitOk;
+}
+
+}  // namespace
+
+void RegisterConvert(CLI::App& app, Outcome& outcome) {
+  auto a = std::make_shared<ConvertArgs>();
+  CLI::App* c = AddCommand(
+      app, "convert", "convert between .sdvi and the human-readable mesh JSON (spec/MESH_JSON.md); outputs are canonical",
+      {"sdvi convert in.sdvi mesh.json", "sdvi convert mesh.json out.sdvi"});
+  c->add_option("input", a->input, "a .sdvi (any payload) or a mesh .json; '-' reads standard input")->required()->type_name("IN");
+  c->add_option("output", a->output, "OUT.sdvi or OUT.json (the extension chooses the format)")->required()->type_name("OUT");
+  SetAction(c, outcome, [a] { return Convert(*a); });
+}
+
+void RegisterInfo(CLI::App& app, Outcome& outcome) {
+  auto a = std::make_shared<InfoArgs>();
+  CLI::App* c = AddCommand(
+      app, "info", "what a .sdvi file holds: version, counts, tags, paper size, file size, payload",
+      {"sdvi info photo.sdvi", "sdvi info photo.sdvi --json"});
+  c->add_option("input", a->input, "the .sdvi file ('-' reads standard input)")->required()->type_name("FILE.sdvi");
+  AddJson(c, a->json);
+  SetAction(c, outcome, [a] { return Info(*a); });
 }
 
 }  // namespace sdvi::cli

@@ -1,93 +1,91 @@
-// sdvi export-gltf IN.sdvi -o OUT.glb|OUT.gltf [--levels r] [--draco] [--position-bits N]
-//   [--color-bits N] [--speed S] [--control-mesh] [--copyright TEXT] [--quiet]
-// Writes the limit surface as a glTF 2.0 file for viewers (spec/GLTF.md).
+// SPDX-License-Identifier: GPL-3.0-or-later
+// sdvi export-gltf: writes the limit surface as a glTF 2.0 file for viewers (spec/GLTF.md).
 #include <cstdio>
+#include <memory>
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 #include "args.h"
 #include "commands.h"
-
-#if __has_include("sdvi/gltf.h")
 #include "io.h"
+#include "sdvi/file_util.h"
 #include "sdvi/gltf.h"
-#define SDVI_HAVE_GLTF 1
-#endif
 
 namespace sdvi::cli {
-
-#ifdef SDVI_HAVE_GLTF
 namespace {
 
 constexpr const char* kCommand = "export-gltf";
 
-StatusOr<GltfExportOptions> OptionsFrom(const Args& args) {
+// The options of `sdvi export-gltf`.
+struct ExportGltfArgs {
+  std::string input, output;
   GltfExportOptions options;
-  SDVI_ASSIGN_OR_RETURN(options.levels, args.GetInt("--levels", options.levels));
-  SDVI_ASSIGN_OR_RETURN(options.position_bits,
-                        args.GetInt("--position-bits", options.position_bits));
-  SDVI_ASSIGN_OR_RETURN(options.color_bits, args.GetInt("--color-bits", options.color_bits));
-  SDVI_ASSIGN_OR_RETURN(options.draco_speed, args.GetInt("--speed", options.draco_speed));
-  options.draco = args.flag("--draco");
-  options.control_mesh = args.flag("--control-mesh");
-  options.copyright = args.get("--copyright").value_or("");
-  const bool draco_only = args.get("--position-bits") || args.get("--color-bits") ||
-                          args.get("--speed");
-  if (draco_only && !options.draco) {
-    return Status(StatusCode::kInvalidArgument,
-                  "--position-bits, --color-bits and --speed need --draco");
-  }
-  return options;
-}
+  CLI::Option* draco = nullptr;
+  bool quiet = false, json = false;
+};
 
-}  // namespace
-
-int RunExportGltf(const CommandArgs& raw) {
-  ArgSpec spec;
-  spec.valued = {"-o", "--levels", "--position-bits", "--color-bits", "--speed", "--copyright"};
-  spec.flags = {"--draco", "--control-mesh", "--quiet"};
-  auto args = Args::Parse(raw, spec);
-  if (!args.ok()) return ReportError(kCommand, args.status());
-  if (args->positional().size() != 1 || !args->get("-o")) {
-    return ReportError(kCommand, Status(StatusCode::kInvalidArgument,
-                                        "expected IN.sdvi -o OUT.glb|OUT.gltf"));
-  }
-  auto options = OptionsFrom(*args);
-  if (!options.ok()) return ReportError(kCommand, options.status());
-  const std::string in = args->positional()[0];
-  const std::string out = *args->get("-o");
+int ExportGltf(const ExportGltfArgs& a) {
+  if (a.json && IsStdStream(a.output)) return ReportUsage(kCommand, "--json and -o - both use standard output");
   // Check the output name before reading the input: a usage error should be cheap.
-  if (auto container = GltfContainerForPath(out); !container.ok()) {
-    return ReportError(kCommand, container.status());
-  }
+  if (auto container = GltfContainerForPath(a.output); !container.ok())
+    return ReportUsage(kCommand, container.status().message());
 
-  auto image = LoadSdvi(in);
+  auto image = LoadSdvi(a.input);
   if (!image.ok()) return ReportError(kCommand, image.status());
-  auto exported = WriteGltf(out, *image, *options);
+  auto exported = WriteGltf(a.output, *image, a.options);
   if (!exported.ok()) {
     // Write errors name the output already; the others concern the input image.
     const Status& status = exported.status();
     if (status.code() == StatusCode::kIoError) return ReportError(kCommand, status);
-    return ReportError(kCommand, Status(status.code(), in + ": " + status.message()));
+    return ReportError(kCommand, Status(status.code(), a.input + ": " + status.message()));
   }
-  if (!args->flag("--quiet")) {
-    std::printf("%s: level %d, %u vertices, %u triangles, %zu bytes", out.c_str(),
-                exported->levels, exported->vertices, exported->triangles,
-                exported->bytes.size());
-    if (options->draco) {
-      std::printf(" (Draco surface %llu bytes)", (unsigned long long)exported->draco_bytes);
-    }
-    std::printf("\n");
+  if (a.json) {
+    nlohmann::ordered_json j;
+    j["output"] = a.output;
+    j["level"] = exported->levels;
+    j["vertices"] = exported->vertices;
+    j["triangles"] = exported->triangles;
+    j["bytes"] = exported->bytes.size();
+    j["draco_bytes"] = exported->draco_bytes;
+    std::printf("%s\n", j.dump(2).c_str());
+  } else if (!a.quiet) {
+    std::FILE* out = SummaryStream(a.output);
+    std::fprintf(out, "%s: level %d, %u vertices, %u triangles, %zu bytes", a.output.c_str(),
+                 exported->levels, exported->vertices, exported->triangles, exported->bytes.size());
+    if (a.options.draco)
+      std::fprintf(out, " (Draco surface %llu bytes)", (unsigned long long)exported->draco_bytes);
+    std::fprintf(out, "\n");
   }
-  return 0;
+  return kExitOk;
 }
 
-#else  // sdvi_gltf is not built (the subdivision engine is missing)
+}  // namespace
 
-int RunExportGltf(const CommandArgs&) {
-  std::fprintf(stderr, "sdvi export-gltf: this build has no glTF exporter (sdvi_gltf)\n");
-  return 2;
+void RegisterExportGltf(CLI::App& app, Outcome& outcome) {
+  auto a = std::make_shared<ExportGltfArgs>();
+  GltfExportOptions& o = a->options;
+  CLI::App* c = AddCommand(
+      app, "export-gltf", "write the limit surface as glTF 2.0 for viewers (unlit, linear vertex colours)",
+      {"sdvi export-gltf in.sdvi -o out.glb", "sdvi export-gltf in.sdvi -o out.glb --draco --levels 3",
+       "sdvi export-gltf in.sdvi -o out.gltf --control-mesh"});
+  c->add_option("input", a->input, "the .sdvi file ('-' reads standard input)")->required()->type_name("IN.sdvi");
+  AddOutput(c, a->output, "OUT.glb (binary) or OUT.gltf (JSON)");
+  c->add_option("--levels", o.levels, "subdivision level r (-1: about one fine triangle per pixel)")
+      ->check(CLI::Range(-1, kMaxGltfLevels));
+  a->draco = c->add_flag("--draco", o.draco, "compress the surface with KHR_draco_mesh_compression");
+  c->add_option("--position-bits", o.position_bits, "Draco: quantisation bits of POSITION")
+      ->check(CLI::Range(1, 30))->needs(a->draco);
+  c->add_option("--color-bits", o.color_bits, "Draco: quantisation bits of COLOR_0")
+      ->check(CLI::Range(1, 30))->needs(a->draco);
+  c->add_option("--speed", o.draco_speed, "Draco: speed 0 (smallest) .. 10 (fastest)")
+      ->check(CLI::Range(0, 10))->needs(a->draco);
+  c->add_flag("--control-mesh", o.control_mesh, "add the control mesh (triangles and crease lines) as a second node");
+  c->add_option("--copyright", o.copyright, "asset.copyright (empty: the file's 'copyright' metadata)")
+      ->type_name("TEXT");
+  AddQuiet(c, a->quiet);
+  AddJson(c, a->json);
+  SetAction(c, outcome, [a] { return ExportGltf(*a); });
 }
-
-#endif
 
 }  // namespace sdvi::cli

@@ -28,7 +28,7 @@ struct ImportSvgRequest {
   int max_triangles = 0;
   double target_psnr = 0;
   int threads = 1;
-  bool quiet = false;
+  bool quiet = false, json = false;
 };
 
 nlohmann::json ArtworkReportJson(const ImportSvgRequest& request, const SvgArtworkResult& result,
@@ -91,13 +91,6 @@ Status ImportCurves(const ImportSvgRequest& request) {
 }
 
 Status ImportSvgCommand(const ImportSvgRequest& request) {
-  if (request.mode != "artwork" && request.mode != "curves") {
-    return Status(StatusCode::kInvalidArgument, "--mode must be artwork or curves, got '" + request.mode + "'");
-  }
-  if (request.width < 0 || request.scale < 0 || (request.width > 0 && request.scale > 0)) {
-    return Status(StatusCode::kInvalidArgument, "give at most one of --width W (> 0) and --scale S (> 0)");
-  }
-  if (request.mode == "curves") return ImportCurves(request);
   SvgArtworkOptions options;
   options.width = request.width;
   options.scale = request.scale;
@@ -111,11 +104,12 @@ Status ImportSvgCommand(const ImportSvgRequest& request) {
   SDVI_ASSIGN_OR_RETURN(SvgArtworkResult result, ImportSvgArtwork(document, options));
   for (const std::string& w : result.warnings) std::fprintf(stderr, "sdvi import-svg: %s: warning: %s\n",
                                                             request.input.c_str(), w.c_str());
-  SDVI_RETURN_IF_ERROR(SaveSdvi(request.output, result.vectorized.image));
-  std::error_code ec;
-  const uint64_t file_size = std::filesystem::file_size(request.output, ec);
+  SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, EncodeImage(result.vectorized.image, nullptr, request.input));
+  SDVI_RETURN_IF_ERROR(WriteFileAtomic(request.output, bytes));
+  const uint64_t file_size = bytes.size();
+  const nlohmann::json report = ArtworkReportJson(request, result, file_size);
   if (!request.report.empty()) {
-    const std::string text = ArtworkReportJson(request, result, ec ? 0 : file_size).dump(2) + "\n";
+    const std::string text = report.dump(2) + "\n";
     SDVI_RETURN_IF_ERROR(WriteFileAtomic(request.report, text.data(), text.size()));
   }
   if (!request.debug_dir.empty()) {
@@ -130,12 +124,14 @@ Status ImportSvgCommand(const ImportSvgRequest& request) {
     SDVI_RETURN_IF_ERROR(SaveRasterPng((base / "reconstruction.png").string(), v.reconstruction));
     SDVI_RETURN_IF_ERROR(SaveRasterPng((base / "error.png").string(), ErrorImage(v.reconstruction, result.reference)));
   }
-  if (!request.quiet) {
+  if (request.json) {
+    std::printf("%s\n", report.dump(2).c_str());
+  } else if (!request.quiet) {
     const VectorizeReport& r = result.vectorized.report;
-    std::printf("%s: %d x %d, %u outline features, %u triangles, %u vertices, %llu bytes, PSNR %.2f dB "
+    std::fprintf(SummaryStream(request.output), "%s: %d x %d, %u outline features, %u triangles, %u vertices, %llu bytes, PSNR %.2f dB "
                 "against librsvg%s\n",
                 request.output.c_str(), result.reference.width, result.reference.height, result.outline_features,
-                r.triangles, r.vertices, static_cast<unsigned long long>(ec ? 0 : file_size), r.psnr,
+                r.triangles, r.vertices, static_cast<unsigned long long>(file_size), r.psnr,
                 result.approximate ? " (approximate)" : "");
   }
   return Status::Ok();
@@ -143,37 +139,38 @@ Status ImportSvgCommand(const ImportSvgRequest& request) {
 
 }  // namespace
 
-int RunImportSvg(const CommandArgs& args) {
-  const ArgSpec spec{{"-o", "--mode", "--width", "--scale", "--max-triangles", "--target-psnr", "--report",
-                      "--threads", "--debug-dir"},
-                     {"--quiet"}};
-  StatusOr<Args> parsed = Args::Parse(args, spec);
-  if (!parsed.ok()) return ReportError("import-svg", parsed.status());
-  const Args& a = *parsed;
-  auto run = [&]() -> Status {
-    if (a.positional().size() != 1) {
-      return Status(StatusCode::kInvalidArgument,
-                    "expected one input SVG, got " + std::to_string(a.positional().size()));
-    }
-    ImportSvgRequest request;
-    request.input = a.positional()[0];
-    const std::optional<std::string> output = a.get("-o");
-    if (!output) return Status(StatusCode::kInvalidArgument, "missing -o OUT.sdvi");
-    request.output = *output;
-    request.mode = a.get("--mode").value_or("artwork");
-    request.report = a.get("--report").value_or("");
-    request.debug_dir = a.get("--debug-dir").value_or("");
-    SDVI_ASSIGN_OR_RETURN(request.width, a.GetInt("--width", 0));
-    SDVI_ASSIGN_OR_RETURN(request.scale, a.GetDouble("--scale", 0));
-    SDVI_ASSIGN_OR_RETURN(request.max_triangles, a.GetInt("--max-triangles", 0));
-    SDVI_ASSIGN_OR_RETURN(request.target_psnr, a.GetDouble("--target-psnr", 0));
-    const int hardware = int(std::max(1u, std::thread::hardware_concurrency()));
-    SDVI_ASSIGN_OR_RETURN(request.threads, a.GetInt("--threads", std::min(hardware, 8)));
-    request.quiet = a.flag("--quiet");
-    return ImportSvgCommand(request);
-  };
-  const Status status = run();
-  return status.ok() ? 0 : ReportError("import-svg", status);
+void RegisterImportSvg(CLI::App& app, Outcome& outcome) {
+  auto r = std::make_shared<ImportSvgRequest>();
+  r->threads = std::min(int(std::max(1u, std::thread::hardware_concurrency())), 8);
+  CLI::App* c = AddCommand(
+      app, "import-svg",
+      "turn an SVG drawing into a .sdvi: its exact outlines become sharp features, colours fitted to librsvg's rendering (spec/SVG.md)",
+      {"sdvi import-svg logo.svg -o logo.sdvi", "sdvi import-svg icon.svg -o icon.sdvi --width 512 --max-triangles 4000",
+       "sdvi import-svg art.svg -o art.sdvi --scale 2 --report report.json",
+       "sdvi import-svg examples/curves/cherries.svg -o cherries.sdvi --mode curves"});
+  c->add_option("input", r->input, "the SVG file ('-' reads standard input)")->required()->type_name("IN.svg");
+  AddOutput(c, r->output, "the .sdvi file to write");
+  c->add_option("--mode", r->mode,
+                "artwork: the SVG's shapes and colours; curves: paths with sdvi:left-color, sdvi:right-color, "
+                "sdvi:sharpness (spec/CURVES.md), colours diffused between them")
+      ->check(CLI::IsMember({"artwork", "curves"}));
+  auto* width = c->add_option("--width", r->width, "output width in pixels (0: the SVG's own size)")
+                    ->check(CLI::Range(0, 65536));
+  c->add_option("--scale", r->scale, "scale of the SVG's own size (0: 1)")->check(CLI::Range(0.0, 1024.0))->excludes(width);
+  c->add_option("--max-triangles", r->max_triangles, "triangle budget (0: automatic)")->check(CLI::Range(0, 1 << 30));
+  c->add_option("--target-psnr", r->target_psnr, "stop refining at this PSNR in dB against librsvg (0: no target)")
+      ->check(CLI::Range(0.0, 200.0));
+  c->add_option("--report", r->report, "write the report as JSON")->type_name("R.json");
+  c->add_option("--debug-dir", r->debug_dir, "write reference, features, mesh, reconstruction and error pictures here")
+      ->type_name("DIR");
+  c->add_option("--threads", r->threads, "worker threads")->check(CLI::Range(1, 256));
+  AddQuiet(c, r->quiet);
+  AddJson(c, r->json);
+  SetAction(c, outcome, [r] {
+    if (r->json && IsStdStream(r->output)) return ReportUsage("import-svg", "--json and -o - both use standard output");
+    const Status status = ImportSvgCommand(*r);
+    return status.ok() ? kExitOk : ReportError("import-svg", status);
+  });
 }
 
 }  // namespace sdvi::cli

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // sdvi render (a .sdvi at any size, to PNG or EXR) and sdvi compare (PSNR, MSSIM, mean
 // error between images, or between a .sdvi rendered at a raster's size and that raster).
 #include <algorithm>
@@ -41,35 +42,36 @@ StatusOr<std::array<int, 4>> ParseRegion(const std::string& text) {
   return v;
 }
 
+// The options of `sdvi render`.
+struct RenderArgs {
+  std::string input, output, region, reference, format;
+  double scale = 1.0;
+  int width = 0, height = 0, levels = -1, bits = 8, threads = 0;
+  bool half = false, quiet = false, json = false;
+  CLI::Option *scale_opt = nullptr, *width_opt = nullptr, *height_opt = nullptr, *bits_opt = nullptr;
+};
+
 // The output viewport of `sdvi render` for image and the size options.
-StatusOr<Viewport> OutputViewport(const Image& image, const Args& args) {
+StatusOr<Viewport> OutputViewport(const Image& image, const RenderArgs& args) {
   if (image.width == 0 || image.height == 0)
     return Status(StatusCode::kEmptyInput, "the image has no size (width or height 0)");
-  const bool has_scale = args.get("--scale").has_value();
-  const bool has_size = args.get("--width").has_value() || args.get("--height").has_value();
-  if (has_scale && has_size)
-    return Status(StatusCode::kInvalidArgument, "give either --scale or --width/--height, not both");
+  const bool has_size = args.width_opt->count() > 0 || args.height_opt->count() > 0;
   Viewport vp;
   if (has_size) {
-    SDVI_ASSIGN_OR_RETURN(int w, args.GetInt("--width", 0));
-    SDVI_ASSIGN_OR_RETURN(int h, args.GetInt("--height", 0));
-    if (w < 0 || h < 0 || (w == 0 && h == 0))
-      return Status(StatusCode::kInvalidArgument, "--width and --height must be positive");
+    int w = args.width, h = args.height;
     // One side given: keep the aspect ratio.
     if (w == 0) w = std::max(1, int(std::lround(double(h) * image.width / image.height)));
     if (h == 0) h = std::max(1, int(std::lround(double(w) * image.height / image.width)));
     vp.width = w, vp.height = h;
     vp.scale_x = double(w) / image.width, vp.scale_y = double(h) / image.height;
   } else {
-    SDVI_ASSIGN_OR_RETURN(double s, args.GetDouble("--scale", 1.0));
-    if (!(s > 0) || s > 65536)
-      return Status(StatusCode::kInvalidArgument, "--scale must be > 0 (got " + std::to_string(s) + ")");
+    const double s = args.scale;
     vp.scale_x = vp.scale_y = s;
     vp.width = int(std::min(1e9, std::max(1.0, std::round(image.width * s))));
     vp.height = int(std::min(1e9, std::max(1.0, std::round(image.height * s))));
   }
-  if (auto region = args.get("--region")) {
-    SDVI_ASSIGN_OR_RETURN(auto r, ParseRegion(*region));
+  if (!args.region.empty()) {
+    SDVI_ASSIGN_OR_RETURN(auto r, ParseRegion(args.region));
     vp.origin_x = r[0] / vp.scale_x, vp.origin_y = r[1] / vp.scale_y;
     vp.width = r[2], vp.height = r[3];
   }
@@ -106,106 +108,110 @@ StatusOr<Raster> RenderAtSize(const Image& image, int width, int height, int lev
   return Render(image, o);
 }
 
-}  // namespace
+// The output format of `sdvi render`: --format, else the output's extension.
+std::string RenderFormat(const RenderArgs& a) {
+  if (!a.format.empty()) return a.format;
+  return FileExtension(a.output);
+}
 
-int RunRender(const CommandArgs& args) {
+int Render(const RenderArgs& a) {
   const char* cmd = "render";
-  auto parsed = Args::Parse(args, ArgSpec{{"-o", "--scale", "--width", "--height", "--region", "--levels",
-                                           "--bits", "--reference", "--threads"},
-                                          {"--half", "--quiet"}});
-  if (!parsed.ok()) return ReportError(cmd, parsed.status());
-  const Args& a = *parsed;
-  if (a.positional().size() != 1 || !a.get("-o"))
-    return ReportError(cmd, Status(StatusCode::kInvalidArgument, "expected IN.sdvi -o OUT.png|OUT.exr"));
-  const std::string in = a.positional()[0], out = *a.get("-o");
-  const std::string ext = FileExtension(out);
+  const std::string ext = RenderFormat(a);
   if (ext != "png" && ext != "exr")
-    return ReportError(cmd, Status(StatusCode::kInvalidArgument,
-                                   out + ": output must be .png or .exr (got '" + ext + "')"));
-  auto bits = a.GetInt("--bits", 8);
-  if (!bits.ok()) return ReportError(cmd, bits.status());
-  if (*bits != 8 && *bits != 16) return ReportError(cmd, Status(StatusCode::kInvalidArgument, "--bits must be 8 or 16"));
-  if (ext == "exr" && a.get("--bits"))
-    return ReportError(cmd, Status(StatusCode::kInvalidArgument, "--bits is for PNG; EXR takes --half"));
-  if (ext == "png" && (a.flag("--half") || a.get("--reference")))
-    return ReportError(cmd, Status(StatusCode::kInvalidArgument, "--half and --reference are for EXR output"));
-  auto levels = a.GetInt("--levels", -1);
-  if (!levels.ok()) return ReportError(cmd, levels.status());
-  auto threads = a.GetInt("--threads", 0);
-  if (!threads.ok()) return ReportError(cmd, threads.status());
+    return ReportUsage(cmd, a.output + ": output must be .png or .exr (or give --format png|exr), got '" + ext + "'");
+  if (ext == "exr" && a.bits_opt->count()) return ReportUsage(cmd, "--bits is for PNG; EXR takes --half");
+  if (ext == "png" && (a.half || !a.reference.empty()))
+    return ReportUsage(cmd, "--half and --reference are for EXR output");
+  if (a.json && IsStdStream(a.output)) return ReportUsage(cmd, "--json and -o - both use standard output");
+  if (a.width_opt->count() && a.height_opt->count() && a.width == 0 && a.height == 0)
+    return ReportUsage(cmd, "--width and --height must not both be 0");
+  if (!a.region.empty()) {
+    if (auto r = ParseRegion(a.region); !r.ok()) return ReportUsage(cmd, r.status().message());
+  }
 
-  auto image = LoadSdvi(in);
+  auto image = LoadSdvi(a.input);
   if (!image.ok()) return ReportError(cmd, image.status());
   auto vp = OutputViewport(*image, a);
-  if (!vp.ok()) return ReportError(cmd, vp.status());
+  if (!vp.ok()) return ReportError(cmd, Status(vp.status().code(), a.input + ": " + vp.status().message()));
   RenderOptions options;
   options.viewport = *vp;
-  options.levels = *levels;
-  options.threads = std::max(0, *threads);
+  options.levels = a.levels;
+  options.threads = a.threads;
   const auto start = std::chrono::steady_clock::now();
   auto raster = Render(*image, options);
-  if (!raster.ok()) return ReportError(cmd, raster.status());
+  if (!raster.ok()) return ReportError(cmd, Status(raster.status().code(), a.input + ": " + raster.status().message()));
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   Status written;
   if (ext == "png") {
-    written = SaveRasterPng(out, *raster, *bits);
+    written = SaveRasterPng(a.output, *raster, a.bits);
   } else {
     ExrWriteOptions exr;
-    exr.half = a.flag("--half");
+    exr.half = a.half;
     std::vector<float> error;
-    if (auto ref_path = a.get("--reference")) {
-      auto ref = LoadRaster(*ref_path);
+    if (!a.reference.empty()) {
+      auto ref = LoadRaster(a.reference);
       if (!ref.ok()) return ReportError(cmd, ref.status());
       auto e = ErrorChannel(*raster, *ref);
-      if (!e.ok()) return ReportError(cmd, e.status());
+      if (!e.ok()) return ReportError(cmd, Status(e.status().code(), a.reference + ": " + e.status().message()));
       error = std::move(*e);
       exr.error = &error;
     }
-    written = SaveExr(out, *raster, exr);
+    written = SaveExr(a.output, *raster, exr);
   }
   if (!written.ok()) return ReportError(cmd, written);
-  if (!a.flag("--quiet"))
-    std::printf("%s: %dx%d, level %d, rendered in %.3f s\n", out.c_str(), vp->width, vp->height,
-                std::min(ChooseRenderLevels(*image, options), kMaxLevels), seconds);
-  return 0;
+  const int level = std::min(ChooseRenderLevels(*image, options), kMaxLevels);
+  if (a.json) {
+    nlohmann::ordered_json j;
+    j["output"] = a.output;
+    j["width"] = vp->width;
+    j["height"] = vp->height;
+    j["level"] = level;
+    j["seconds"] = seconds;
+    std::printf("%s\n", j.dump(2).c_str());
+  } else if (!a.quiet) {
+    std::fprintf(SummaryStream(a.output), "%s: %dx%d, level %d, rendered in %.3f s\n", a.output.c_str(),
+                 vp->width, vp->height, level, seconds);
+  }
+  return kExitOk;
 }
 
-int RunCompare(const CommandArgs& args) {
+// The options of `sdvi compare`.
+struct CompareArgs {
+  std::string a, b;
+  int levels = -1;
+  bool json = false;
+};
+
+int Compare(const CompareArgs& args) {
   const char* cmd = "compare";
-  auto parsed = Args::Parse(args, ArgSpec{{"--levels"}, {"--json"}});
-  if (!parsed.ok()) return ReportError(cmd, parsed.status());
-  if (parsed->positional().size() != 2)
-    return ReportError(cmd, Status(StatusCode::kInvalidArgument,
-                                   "expected A B (images, or a .sdvi and an image; A is the reconstruction)"));
-  auto levels = parsed->GetInt("--levels", -1);
-  if (!levels.ok()) return ReportError(cmd, levels.status());
-  auto a = LoadCompareInput(parsed->positional()[0]);
+  auto a = LoadCompareInput(args.a);
   if (!a.ok()) return ReportError(cmd, a.status());
-  auto b = LoadCompareInput(parsed->positional()[1]);
+  auto b = LoadCompareInput(args.b);
   if (!b.ok()) return ReportError(cmd, b.status());
   // A .sdvi is rendered at the other input's raster size (at its own size if both are .sdvi).
   if (a->is_sdvi && !b->is_sdvi) {
-    auto r = RenderAtSize(a->image, b->raster.width, b->raster.height, *levels);
-    if (!r.ok()) return ReportError(cmd, r.status());
+    auto r = RenderAtSize(a->image, b->raster.width, b->raster.height, args.levels);
+    if (!r.ok()) return ReportError(cmd, Status(r.status().code(), args.a + ": " + r.status().message()));
     a->raster = std::move(*r);
   } else if (a->is_sdvi) {
-    auto r = RenderAtSize(a->image, int(a->image.width), int(a->image.height), *levels);
-    if (!r.ok()) return ReportError(cmd, r.status());
+    auto r = RenderAtSize(a->image, int(a->image.width), int(a->image.height), args.levels);
+    if (!r.ok()) return ReportError(cmd, Status(r.status().code(), args.a + ": " + r.status().message()));
     a->raster = std::move(*r);
   }
   if (b->is_sdvi) {
-    auto r = RenderAtSize(b->image, a->raster.width, a->raster.height, *levels);
-    if (!r.ok()) return ReportError(cmd, r.status());
+    auto r = RenderAtSize(b->image, a->raster.width, a->raster.height, args.levels);
+    if (!r.ok()) return ReportError(cmd, Status(r.status().code(), args.b + ": " + r.status().message()));
     b->raster = std::move(*r);
   }
   // A .sdvi counts as its 8-bit render, as its PNG would (spec/RATE.md 1: one PSNR).
   if (a->is_sdvi) RoundTo8Bit(a->raster);
   if (b->is_sdvi) RoundTo8Bit(b->raster);
   auto m = CompareImages(a->raster, b->raster);
-  if (!m.ok()) return ReportError(cmd, m.status());
+  if (!m.ok())
+    return ReportError(cmd, Status(m.status().code(), args.a + " vs " + args.b + ": " + m.status().message()));
   const bool grey = a->raster.channels < 3 && b->raster.channels < 3;
-  if (parsed->flag("--json")) {
+  if (args.json) {
     nlohmann::ordered_json j;
     j["psnr"] = std::isfinite(m->psnr) ? nlohmann::json(m->psnr) : nlohmann::json(nullptr);  // null: identical
     j["mssim"] = m->mssim;
@@ -226,7 +232,53 @@ int RunCompare(const CommandArgs& args) {
     std::printf("pixels      %llu of %dx%d\n", static_cast<unsigned long long>(m->pixels), a->raster.width,
                 a->raster.height);
   }
-  return 0;
+  return kExitOk;
+}
+
+}  // namespace
+
+void RegisterRender(CLI::App& app, Outcome& outcome) {
+  auto a = std::make_shared<RenderArgs>();
+  CLI::App* c = AddCommand(
+      app, "render", "render the limit surface of a .sdvi at any resolution, to PNG or EXR",
+      {"sdvi render in.sdvi -o out.png                  # at the image's own size",
+       "sdvi render in.sdvi -o big.png --scale 4        # 4x magnification",
+       "sdvi render in.sdvi -o out.png --width 1920     # height keeps the aspect ratio",
+       "sdvi render in.sdvi -o crop.exr --scale 8 --region 100,100,512,512 --half",
+       "sdvi render in.sdvi -o - --format png > out.png"});
+  c->add_option("input", a->input, "the .sdvi file ('-' reads standard input)")->required()->type_name("IN.sdvi");
+  AddOutput(c, a->output, "the output image, .png (8/16-bit sRGB, alpha = domain) or .exr (linear light)");
+  c->add_option("--format", a->format, "output format when -o does not tell it by extension")
+      ->check(CLI::IsMember({"png", "exr"}));
+  a->scale_opt = c->add_option("--scale", a->scale, "magnification factor")->check(CLI::Range(1e-6, 65536.0));
+  a->width_opt = c->add_option("--width", a->width, "output width in pixels (0: from --height)")
+                     ->check(CLI::Range(0, 1 << 20))->excludes(a->scale_opt);
+  a->height_opt = c->add_option("--height", a->height, "output height in pixels (0: from --width)")
+                      ->check(CLI::Range(0, 1 << 20))->excludes(a->scale_opt);
+  c->add_option("--region", a->region, "render only this window x,y,w,h of the full-size output")
+      ->type_name("X,Y,W,H");
+  c->add_option("--levels", a->levels, "subdivision level r (-1: chosen from the scale)")->check(CLI::Range(-1, 8));
+  a->bits_opt = c->add_option("--bits", a->bits, "PNG bits per channel")->check(CLI::IsMember({8, 16}));
+  c->add_flag("--half", a->half, "EXR: 16-bit half floats instead of 32-bit floats");
+  c->add_option("--reference", a->reference, "EXR: add an 'error' channel against this image")->type_name("IMG");
+  c->add_option("--threads", a->threads, "worker threads (0: all cores)")->check(CLI::Range(0, 256));
+  AddQuiet(c, a->quiet);
+  AddJson(c, a->json);
+  SetAction(c, outcome, [a] { return Render(*a); });
+}
+
+void RegisterCompare(CLI::App& app, Outcome& outcome) {
+  auto a = std::make_shared<CompareArgs>();
+  CLI::App* c = AddCommand(
+      app, "compare",
+      "PSNR, MSSIM and mean error between two images, or a .sdvi (rendered at the other's size) and an image",
+      {"sdvi compare out.png in.png", "sdvi compare result.sdvi original.png --json"});
+  c->add_option("A", a->a, "the reconstruction: an image or a .sdvi")->required();
+  c->add_option("B", a->b, "the reference: an image or a .sdvi")->required();
+  c->add_option("--levels", a->levels, "subdivision level for rendering a .sdvi (-1: automatic)")
+      ->check(CLI::Range(-1, 8));
+  AddJson(c, a->json);
+  SetAction(c, outcome, [a] { return Compare(*a); });
 }
 
 }  // namespace sdvi::cli

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // sdvi subdivide IN.sdvi --levels r [--limit] -o OUT.ply
 // Writes the level-r fine mesh (or its limit surface with --limit) as binary PLY:
 // per-vertex x, y, z = 0 (source pixels, y down), colour as uchar red/green/blue
@@ -10,6 +11,8 @@
 #include <cstring>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "args.h"
 #include "commands.h"
@@ -61,30 +64,54 @@ std::vector<uint8_t> EncodePly(const RefinedMesh& mesh, bool limit) {
   return out;
 }
 
-}  // namespace
+// The options of `sdvi subdivide`.
+struct SubdivideArgs {
+  std::string input, output;
+  int levels = 2;
+  bool limit = false, quiet = false, json = false;
+};
 
-int RunSubdivide(const CommandArgs& args) {
+int Subdivide(const SubdivideArgs& a) {
   const std::string command = "subdivide";
-  auto parsed = Args::Parse(args, ArgSpec{{"--levels", "-o"}, {"--limit"}});
-  if (!parsed.ok()) return ReportError(command, parsed.status());
-  if (parsed->positional().size() != 1)
-    return ReportError(command, Status(StatusCode::kInvalidArgument, "expected one input .sdvi file"));
-  const auto output = parsed->get("-o");
-  if (!output) return ReportError(command, Status(StatusCode::kInvalidArgument, "missing -o OUT.ply"));
-  auto levels = parsed->GetInt("--levels", 2);
-  if (!levels.ok()) return ReportError(command, levels.status());
-  auto image = LoadSdvi(parsed->positional()[0]);
+  if (a.json && IsStdStream(a.output)) return ReportUsage(command, "--json and -o - both use standard output");
+  auto image = LoadSdvi(a.input);
   if (!image.ok()) return ReportError(command, image.status());
   LimitSurfaceOptions options;
-  options.levels = *levels;
-  options.to_limit = parsed->flag("--limit");
+  options.levels = a.levels;
+  options.to_limit = a.limit;
   auto mesh = RefineImage(*image, options);
-  if (!mesh.ok()) return ReportError(command, mesh.status());
-  const Status written = WriteFileAtomic(*output, EncodePly(*mesh, options.to_limit));
+  if (!mesh.ok()) return ReportError(command, Status(mesh.status().code(), a.input + ": " + mesh.status().message()));
+  const Status written = WriteFileAtomic(a.output, EncodePly(*mesh, options.to_limit));
   if (!written.ok()) return ReportError(command, written);
-  std::printf("%s: %zu vertices, %zu triangles (level %d%s)\n", output->c_str(), mesh->vertices.size(),
-              mesh->triangles.size(), mesh->levels, options.to_limit ? ", limit" : "");
-  return 0;
+  if (a.json) {
+    nlohmann::ordered_json j;
+    j["output"] = a.output;
+    j["level"] = mesh->levels;
+    j["limit"] = a.limit;
+    j["vertices"] = mesh->vertices.size();
+    j["triangles"] = mesh->triangles.size();
+    std::printf("%s\n", j.dump(2).c_str());
+  } else if (!a.quiet) {
+    std::fprintf(SummaryStream(a.output), "%s: %zu vertices, %zu triangles (level %d%s)\n", a.output.c_str(),
+                 mesh->vertices.size(), mesh->triangles.size(), mesh->levels, options.to_limit ? ", limit" : "");
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+void RegisterSubdivide(CLI::App& app, Outcome& outcome) {
+  auto a = std::make_shared<SubdivideArgs>();
+  CLI::App* c = AddCommand(
+      app, "subdivide", "write the level-r refined mesh (or its limit surface) as binary PLY with colours and tags",
+      {"sdvi subdivide in.sdvi --levels 3 -o fine.ply", "sdvi subdivide in.sdvi --levels 2 --limit -o limit.ply"});
+  c->add_option("input", a->input, "the .sdvi file ('-' reads standard input)")->required()->type_name("IN.sdvi");
+  AddOutput(c, a->output, "the PLY file");
+  c->add_option("--levels", a->levels, "subdivision level r")->check(CLI::Range(0, 8));
+  c->add_flag("--limit", a->limit, "push every vertex to its limit position");
+  AddQuiet(c, a->quiet);
+  AddJson(c, a->json);
+  SetAction(c, outcome, [a] { return Subdivide(*a); });
 }
 
 }  // namespace sdvi::cli

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `sdvi vectorize` (raster -> .sdvi, paper section IV) and `sdvi sample` (the built-in
 // sample image).
 #include <algorithm>
@@ -83,36 +84,31 @@ Status WriteDebugPictures(const std::string& dir, const Raster& raster, const Ve
   return Status::Ok();
 }
 
-Status VectorizeCommand(const Args& args) {
-  if (args.positional().size() != 1) {
-    return Status(StatusCode::kInvalidArgument, "expected one input image, got " +
-                                                    std::to_string(args.positional().size()));
-  }
-  const std::string input = args.positional()[0];
-  const std::optional<std::string> output = args.get("-o");
-  if (!output) return Status(StatusCode::kInvalidArgument, "missing -o OUT.sdvi");
+// The options of `sdvi vectorize`.
+struct VectorizeArgs {
+  std::string input, output, mask, report, debug_dir;
   VectorizeOptions options;
-  SDVI_ASSIGN_OR_RETURN(options.target_psnr, args.GetDouble("--target-psnr", 0));
-  SDVI_ASSIGN_OR_RETURN(options.max_triangles, args.GetInt("--max-triangles", 0));
-  SDVI_ASSIGN_OR_RETURN(options.iterations, args.GetInt("--iterations", options.iterations));
-  SDVI_ASSIGN_OR_RETURN(options.compression_ratio,
-                        args.GetDouble("--compression-ratio", options.compression_ratio));
-  const int hardware = int(std::max(1u, std::thread::hardware_concurrency()));
-  SDVI_ASSIGN_OR_RETURN(options.threads, args.GetInt("--threads", std::min(hardware, 8)));
-  if (options.threads < 1 || options.threads > 256) {
-    return Status(StatusCode::kInvalidArgument, "--threads must be in 1..256");
-  }
+  double quality = -1;
+  uint64_t target_bytes = 0;
+  CLI::Option *quality_opt = nullptr, *target_bytes_opt = nullptr;
+  bool compress = false, strict = false, quiet = false, json = false;
+};
+
+Status VectorizeCommand(VectorizeArgs& args) {
+  VectorizeOptions& options = args.options;
   options.fit.threads = options.threads;
+  const std::string& input = args.input;
+  const std::string& output = args.output;
 
   const Clock::time_point load_start = Clock::now();
   SDVI_ASSIGN_OR_RETURN(Raster raster, LoadRaster(input));
   Raster mask;
-  const std::optional<std::string> mask_path = args.get("--mask");
-  if (mask_path) {
-    SDVI_ASSIGN_OR_RETURN(mask, LoadRaster(*mask_path));
+  const bool has_mask = !args.mask.empty();
+  if (has_mask) {
+    SDVI_ASSIGN_OR_RETURN(mask, LoadRaster(args.mask));
     if (mask.width != raster.width || mask.height != raster.height) {
       return Status(StatusCode::kInvalidArgument,
-                    *mask_path + ": mask is " + std::to_string(mask.width) + "x" +
+                    args.mask + ": mask is " + std::to_string(mask.width) + "x" +
                         std::to_string(mask.height) + " but " + input + " is " +
                         std::to_string(raster.width) + "x" + std::to_string(raster.height));
     }
@@ -121,20 +117,13 @@ Status VectorizeCommand(const Args& args) {
 
   // Rate targets (spec/RATE.md 4): --quality and --target-bytes imply --compress.
   RateTarget target;
-  SDVI_ASSIGN_OR_RETURN(target.quality, args.GetDouble("--quality", -1));
-  SDVI_ASSIGN_OR_RETURN(const double target_bytes, args.GetDouble("--target-bytes", 0));
-  if (args.get("--quality") && !(target.quality >= 0 && target.quality <= 100))
-    return Status(StatusCode::kInvalidArgument, "--quality must be in 0..100");
-  if (args.get("--target-bytes") && !(target_bytes >= 1 && target_bytes < 1e15))
-    return Status(StatusCode::kInvalidArgument, "--target-bytes must be a positive byte count");
-  target.bytes = uint64_t(target_bytes);
-  if (int(args.get("--quality").has_value()) + int(args.get("--target-bytes").has_value()) +
-          int(options.target_psnr > 0) > 1)
-    return Status(StatusCode::kInvalidArgument, "choose one of --quality, --target-bytes, --target-psnr");
-  const bool compress = args.flag("--compress") || args.get("--quality") || args.get("--target-bytes");
-  const Raster* mask_ptr = mask_path ? &mask : nullptr;
+  const bool has_quality = args.quality_opt->count() > 0, has_bytes = args.target_bytes_opt->count() > 0;
+  target.quality = has_quality ? args.quality : -1;
+  target.bytes = has_bytes ? args.target_bytes : 0;
+  const bool compress = args.compress || has_quality || has_bytes;
+  const Raster* mask_ptr = has_mask ? &mask : nullptr;
 
-  Progress progress(args.flag("--quiet"));
+  Progress progress(args.quiet);
   options.progress = &progress;
   RateOptions rate;
   rate.threads = options.threads;
@@ -148,7 +137,7 @@ Status VectorizeCommand(const Args& args) {
   auto named = [&](const Status& s) { return s.ok() ? s : Status(s.code(), input + ": " + s.message()); };
   if (compress) {
     RateResult compressed;
-    if (args.get("--quality") || args.get("--target-bytes") || options.target_psnr > 0) {
+    if (has_quality || has_bytes || options.target_psnr > 0) {
       if (options.target_psnr > 0) target.psnr = options.target_psnr;
       StatusOr<TargetResult> t = VectorizeForTarget(raster, mask_ptr, options, target, rate);
       if (!t.ok()) return named(t.status());
@@ -175,8 +164,8 @@ Status VectorizeCommand(const Args& args) {
     StatusOr<VectorizeResult> v = sdvi::Vectorize(raster, mask_ptr, options);
     if (!v.ok()) return named(v.status());
     result = std::move(*v);
-    SDVI_ASSIGN_OR_RETURN(bytes, EncodeImage(result.image, nullptr, *output));
-    SDVI_ASSIGN_OR_RETURN(Image decoded, DecodeImage(bytes, *output));
+    SDVI_ASSIGN_OR_RETURN(bytes, EncodeImage(result.image, nullptr, output));
+    SDVI_ASSIGN_OR_RETURN(Image decoded, DecodeImage(bytes, output));
     SDVI_ASSIGN_OR_RETURN(file_psnr, FileQualityPsnr(decoded, raster, options.threads));
     if (options.target_psnr > 0 && file_psnr < options.target_psnr) {
       reached = false;
@@ -191,72 +180,108 @@ Status VectorizeCommand(const Args& args) {
   const double fit_psnr = result.report.psnr;
   result.report.psnr = file_psnr;
   if (!reached) {
-    if (args.flag("--strict")) return Status(StatusCode::kLimitExceeded, input + ": " + note + "; nothing written");
+    if (args.strict) return Status(StatusCode::kLimitExceeded, input + ": " + note + "; nothing written");
     std::fprintf(stderr, "sdvi vectorize: warning: %s: %s\n", input.c_str(), note.c_str());
   }
-  SDVI_RETURN_IF_ERROR(WriteFileAtomic(*output, bytes));
-  std::error_code ec;
-  const uint64_t file_size = std::filesystem::file_size(*output, ec);
+  SDVI_RETURN_IF_ERROR(WriteFileAtomic(output, bytes));
+  const uint64_t file_size = bytes.size();
 
-  if (const std::optional<std::string> report_path = args.get("--report")) {
-    nlohmann::json report = ReportJson(input, *output, raster, result.report, ec ? 0 : file_size);
-    report["fit_psnr_db"] = fit_psnr;
-    if (!rate_report.is_null()) report["rate"] = rate_report;
-    if (args.get("--quality") || args.get("--target-bytes") || options.target_psnr > 0) {
-      report["target_reached"] = reached;
-      if (!reached) report["target_note"] = note;
-    }
+  nlohmann::json report = ReportJson(input, output, raster, result.report, file_size);
+  report["fit_psnr_db"] = fit_psnr;
+  if (!rate_report.is_null()) report["rate"] = rate_report;
+  if (has_quality || has_bytes || options.target_psnr > 0) {
+    report["target_reached"] = reached;
+    if (!reached) report["target_note"] = note;
+  }
+  if (!args.report.empty()) {
     const std::string text = report.dump(2) + "\n";
-    SDVI_RETURN_IF_ERROR(WriteFileAtomic(*report_path, text.data(), text.size()));
+    SDVI_RETURN_IF_ERROR(WriteFileAtomic(args.report, text.data(), text.size()));
   }
-  if (const std::optional<std::string> debug_dir = args.get("--debug-dir")) {
-    SDVI_RETURN_IF_ERROR(WriteDebugPictures(*debug_dir, raster, result));
+  if (!args.debug_dir.empty()) {
+    SDVI_RETURN_IF_ERROR(WriteDebugPictures(args.debug_dir, raster, result));
   }
-  if (!args.flag("--quiet")) {
+  if (args.json) {
+    std::printf("%s\n", report.dump(2).c_str());
+  } else if (!args.quiet) {
     const VectorizeReport& r = result.report;
-    std::printf("%s: %u triangles, %u vertices, %llu bytes (paper size %llu), PSNR %.2f dB, "
-                "MSSIM %.4f, mean error %.2f, %.2f s\n",
-                output->c_str(), r.triangles, r.vertices,
-                static_cast<unsigned long long>(ec ? 0 : file_size),
-                static_cast<unsigned long long>(r.paper_size), r.psnr, r.mssim, r.mean_error,
-                r.seconds.total + r.seconds.load);
+    std::fprintf(SummaryStream(output),
+                 "%s: %u triangles, %u vertices, %llu bytes (paper size %llu), PSNR %.2f dB, "
+                 "MSSIM %.4f, mean error %.2f, %.2f s\n",
+                 output.c_str(), r.triangles, r.vertices, static_cast<unsigned long long>(file_size),
+                 static_cast<unsigned long long>(r.paper_size), r.psnr, r.mssim, r.mean_error,
+                 r.seconds.total + r.seconds.load);
   }
   return Status::Ok();
 }
 
-Status SampleCommand(const Args& args) {
-  if (!args.positional().empty()) {
-    return Status(StatusCode::kInvalidArgument, "unexpected argument '" + args.positional()[0] + "'");
-  }
-  const std::optional<std::string> output = args.get("-o");
-  if (!output) return Status(StatusCode::kInvalidArgument, "missing -o OUT.png");
-  SDVI_ASSIGN_OR_RETURN(const int width, args.GetInt("--width", 512));
-  SDVI_ASSIGN_OR_RETURN(const int height, args.GetInt("--height", 384));
-  if (width < 8 || height < 8 || width > 16384 || height > 16384) {
-    return Status(StatusCode::kInvalidArgument, "--width and --height must be in 8..16384");
-  }
-  return SaveRasterPng(*output, MakeSampleImage(width, height));
-}
+// The options of `sdvi sample`.
+struct SampleArgs {
+  std::string output;
+  int width = 512, height = 384;
+};
 
 }  // namespace
 
-int RunVectorize(const CommandArgs& args) {
-  const ArgSpec spec{{"-o", "--target-psnr", "--max-triangles", "--iterations", "--mask",
-                      "--report", "--debug-dir", "--threads", "--compression-ratio", "--quality",
-                      "--target-bytes"},
-                     {"--quiet", "--compress", "--strict"}};
-  StatusOr<Args> parsed = Args::Parse(args, spec);
-  if (!parsed.ok()) return ReportError("vectorize", parsed.status());
-  const Status status = VectorizeCommand(*parsed);
-  return status.ok() ? 0 : ReportError("vectorize", status);
+void RegisterVectorize(CLI::App& app, Outcome& outcome) {
+  auto a = std::make_shared<VectorizeArgs>();
+  VectorizeOptions& o = a->options;
+  o.threads = std::min(int(std::max(1u, std::thread::hardware_concurrency())), 8);
+  CLI::App* c = AddCommand(
+      app, "vectorize",
+      "turn a raster image into a .sdvi subdivision surface (feature curves, CDT, colour fit, refinement)",
+      {"sdvi vectorize photo.jpg -o photo.sdvi",
+       "sdvi vectorize photo.png -o photo.sdvi --compression-ratio 25 --report report.json",
+       "sdvi vectorize logo.png -o logo.sdvi --target-psnr 40 --compress",
+       "cat photo.png | sdvi vectorize - -o - > photo.sdvi"});
+  c->add_option("input", a->input, "the image: PNG, JPEG, TIFF, BMP (8/16-bit; grey, RGB, RGBA); '-' reads standard input")
+      ->required()->type_name("IN");
+  AddOutput(c, a->output, "the .sdvi file to write");
+  auto* target_psnr = c->add_option("--target-psnr", o.target_psnr, "stop refining at this PSNR in dB (0: no target); reached or reported (spec/RATE.md)")
+      ->check(CLI::Range(0.0, 200.0));
+  c->add_option("--max-triangles", o.max_triangles, "triangle budget (0: from --compression-ratio)")
+      ->check(CLI::Range(0, 1 << 30));
+  c->add_option("--compression-ratio", o.compression_ratio,
+                "pixels per vertex when --max-triangles is 0 (the vertex budget)")
+      ->check(CLI::Range(1.0, 1e6));
+  c->add_option("--iterations", o.iterations, "refinement rounds at most (0: the initial fit only)")
+      ->check(CLI::Range(0, 1000));
+  c->add_option("--mask", a->mask, "an image of the same size whose non-zero pixels bound the domain (object image)")
+      ->type_name("IMG");
+  c->add_option("--report", a->report, "write the report (sizes, PSNR, MSSIM, timings, history) as JSON")
+      ->type_name("R.json");
+  c->add_option("--debug-dir", a->debug_dir, "write features.png, mesh.png, reconstruction.png, error.png here")
+      ->type_name("DIR");
+  c->add_option("--threads", o.threads, "worker threads")->check(CLI::Range(1, 256));
+  c->add_flag("--compress", a->compress,
+              "write a Draco payload: quantisation chosen by rate-distortion, colours refitted (spec/RATE.md)");
+  a->quality_opt = c->add_option("--quality", a->quality, "one knob 0 (smallest) .. 100 (best), monotone in rate and distortion; implies --compress")
+                       ->check(CLI::Range(0.0, 100.0));
+  a->target_bytes_opt = c->add_option("--target-bytes", a->target_bytes, "the largest file that fits this many bytes; implies --compress")
+                            ->check(CLI::Range(uint64_t{1}, uint64_t{1} << 50))->excludes(a->quality_opt)->excludes(target_psnr);
+  a->quality_opt->excludes(target_psnr);
+  c->add_flag("--strict", a->strict, "fail (exit 1, nothing written) when --target-psnr is not reached instead of warning");
+  AddQuiet(c, a->quiet);
+  AddJson(c, a->json);
+  SetAction(c, outcome, [a] {
+    if (a->json && IsStdStream(a->output)) return ReportUsage("vectorize", "--json and -o - both use standard output");
+    const Status status = VectorizeCommand(*a);
+    return status.ok() ? kExitOk : ReportError("vectorize", status);
+  });
 }
 
-int RunSample(const CommandArgs& args) {
-  const ArgSpec spec{{"-o", "--width", "--height"}, {}};
-  StatusOr<Args> parsed = Args::Parse(args, spec);
-  if (!parsed.ok()) return ReportError("sample", parsed.status());
-  const Status status = SampleCommand(*parsed);
-  return status.ok() ? 0 : ReportError("sample", status);
+void RegisterSample(CLI::App& app, Outcome& outcome) {
+  auto a = std::make_shared<SampleArgs>();
+  CLI::App* c = AddCommand(
+      app, "sample",
+      "write the built-in sample image (smooth gradients, sharp and blurred curved edges, corners)",
+      {"sdvi sample -o sample.png", "sdvi sample -o wide.png --width 1024 --height 512"});
+  AddOutput(c, a->output, "the PNG to write");
+  c->add_option("--width", a->width, "width in pixels")->check(CLI::Range(8, 16384));
+  c->add_option("--height", a->height, "height in pixels")->check(CLI::Range(8, 16384));
+  SetAction(c, outcome, [a] {
+    const Status status = SaveRasterPng(a->output, MakeSampleImage(a->width, a->height));
+    return status.ok() ? kExitOk : ReportError("sample", status);
+  });
 }
 
 }  // namespace sdvi::cli

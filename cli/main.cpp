@@ -1,74 +1,78 @@
-// sdvi: the command-line tool. Parses the subcommand and hands over to it.
+// SPDX-License-Identifier: GPL-3.0-or-later
+// sdvi: the command-line tool. CLI11 parses the subcommand and its options; the
+// subcommand's callback does the work and sets the exit code (args.h).
 #include <cstdio>
-#include <cstring>
+#include <iostream>
 #include <string>
-#include <vector>
 
 #include "commands.h"
 
 namespace {
 
-struct Command {
-  const char* name;
-  int (*run)(const sdvi::cli::CommandArgs&);
-  const char* usage;
-};
-
-const Command kCommands[] = {
-    {"vectorize", sdvi::cli::RunVectorize,
-     "IN.png|jpg|tif|bmp -o OUT.sdvi [--target-psnr dB] [--max-triangles N] [--iterations K] "
-     "[--compression-ratio R] [--mask M] [--report R.json] [--debug-dir D] [--threads N] [--compress] "
-     "[--quality Q | --target-bytes N] [--strict] [--quiet]   (spec/RATE.md)"},
-    {"import-svg", sdvi::cli::RunImportSvg,
-     "IN.svg -o OUT.sdvi [--mode artwork|curves] [--width W | --scale S] [--max-triangles N] "
-     "[--target-psnr dB] [--report R.json] [--debug-dir D] [--threads N] [--quiet]   (spec/SVG.md)"},
-    {"render", sdvi::cli::RunRender,
-     "IN.sdvi -o OUT.png|OUT.exr [--scale S | --width W --height H] [--region x,y,w,h] "
-     "[--levels r] [--bits 8|16] [--half] [--reference IMG]"},
-    {"compare", sdvi::cli::RunCompare, "A B [--json]   (images or .sdvi files)"},
-    {"info", sdvi::cli::RunInfo, "FILE.sdvi [--json]"},
-    {"convert", sdvi::cli::RunConvert, "IN.json|IN.sdvi OUT.sdvi|OUT.json"},
-    {"subdivide", sdvi::cli::RunSubdivide, "IN.sdvi --levels r [--limit] -o OUT.ply"},
-    {"export-gltf", sdvi::cli::RunExportGltf,
-     "IN.sdvi -o OUT.glb|OUT.gltf [--levels r] [--draco] [--position-bits N] [--color-bits N] "
-     "[--speed S] [--control-mesh] [--copyright TEXT] [--quiet]"},
-    {"compress", sdvi::cli::RunCompress,
-     "IN.sdvi -o OUT.sdvi [--position-bits N] [--color-bits N] [--speed S] "
-     "[--reference IMG | --reference-mse M] [--keep-vertex-order] [--quiet]"},
-    {"decompress", sdvi::cli::RunDecompress, "IN.sdvi -o OUT.sdvi"},
-    {"sample", sdvi::cli::RunSample, "-o OUT.png [--width W --height H]   (the built-in sample image)"},
-};
-
-void PrintUsage(std::FILE* out) {
-  std::fprintf(out, "usage: sdvi <command> [options]\n\ncommands:\n");
-  for (const Command& c : kCommands) std::fprintf(out, "  %-12s %s\n", c.name, c.usage);
+// `sdvi help [COMMAND]`: the general help, or one command's.
+void RegisterHelp(CLI::App& app, sdvi::cli::Outcome& outcome) {
+  CLI::App* help = app.add_subcommand("help", "show the help of a command (or of sdvi)");
+  auto topic = std::make_shared<std::string>();
+  help->add_option("command", *topic, "the command to explain");
+  help->callback([&app, topic, &outcome] {
+    if (topic->empty()) {
+      std::cout << app.help();
+      return;
+    }
+    for (CLI::App* sub : app.get_subcommands({})) {
+      if (sub->get_name() == *topic) {
+        std::cout << sub->help(app.get_name());
+        return;
+      }
+    }
+    outcome.exit_code = sdvi::cli::ReportUsage("help", "unknown command '" + *topic + "'");
+  });
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") ||
-      !std::strcmp(argv[1], "help")) {
-    PrintUsage(argc < 2 ? stderr : stdout);
-    return argc < 2 ? 1 : 0;
+  CLI::App app("sdvi: images as curvilinear-feature-driven subdivision surfaces.\n"
+               "Vectorize rasters into resolution-free .sdvi files, render them at any size, "
+               "export them to glTF, compress them.",
+               "sdvi");
+  app.set_version_flag("-V,--version", std::string("sdvi ") + SDVI_VERSION);
+  app.require_subcommand(1);
+  app.footer("\nRun 'sdvi help COMMAND' or 'sdvi COMMAND --help' for a command's options.\n"
+             "Exit codes: 0 success, 1 failure, 2 usage error.");
+  sdvi::cli::Outcome outcome;
+  sdvi::cli::RegisterVectorize(app, outcome);
+  sdvi::cli::RegisterImportSvg(app, outcome);
+  sdvi::cli::RegisterRender(app, outcome);
+  sdvi::cli::RegisterCompare(app, outcome);
+  sdvi::cli::RegisterInfo(app, outcome);
+  sdvi::cli::RegisterConvert(app, outcome);
+  sdvi::cli::RegisterSubdivide(app, outcome);
+  sdvi::cli::RegisterExportGltf(app, outcome);
+  sdvi::cli::RegisterCompress(app, outcome);
+  sdvi::cli::RegisterDecompress(app, outcome);
+  sdvi::cli::RegisterSample(app, outcome);
+  RegisterHelp(app, outcome);
+
+  if (argc < 2) {
+    std::cerr << app.help();
+    return sdvi::cli::kExitUsage;
   }
-  if (!std::strcmp(argv[1], "--version")) {
-    std::printf("sdvi %s\n", SDVI_VERSION);
-    return 0;
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::string command = "";
+    for (CLI::App* sub : app.get_subcommands()) command = sub->get_name();
+    std::fprintf(stderr, "sdvi%s%s: %s\nRun 'sdvi %s--help' for the options.\n",
+                 command.empty() ? "" : " ", command.c_str(), e.what(),
+                 command.empty() ? "" : (command + " ").c_str());
+    return sdvi::cli::kExitUsage;
   }
-  for (const Command& c : kCommands) {
-    if (std::strcmp(argv[1], c.name) == 0) {
-      std::vector<std::string> args(argv + 2, argv + argc);
-      for (const std::string& a : args) {
-        if (a == "--help" || a == "-h") {
-          std::printf("usage: sdvi %s %s\n", c.name, c.usage);
-          return 0;
-        }
-      }
-      return c.run(args);
-    }
-  }
-  std::fprintf(stderr, "sdvi: unknown command '%s'\n\n", argv[1]);
-  PrintUsage(stderr);
-  return 1;
+  return outcome.exit_code;
 }

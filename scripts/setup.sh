@@ -6,7 +6,7 @@ cd "$(dirname "$0")/.."
 
 PACKAGES=(build-essential cmake ninja-build pkg-config
   libflatbuffers-dev flatbuffers-compiler libdraco-dev libtinygltf-dev libopenexr-dev
-  libopencv-dev libcgal-dev libeigen3-dev catch2 nlohmann-json3-dev)
+  libopencv-dev libcgal-dev libeigen3-dev catch2 nlohmann-json3-dev libcli11-dev)
 # Image input (converters/raster): OpenImageIO (EXIF orientation, GIF, EXR, HDR), Little CMS
 # (ICC -> sRGB); giflib and zlib build the raster-input tests' files.
 PACKAGES+=(libopenimageio-dev liblcms2-dev libgif-dev zlib1g-dev)

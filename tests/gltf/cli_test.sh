@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# ctest gltf_cli: `sdvi export-gltf` options, exit codes (0 ok, 1 usage, 2 failure) and
+# ctest gltf_cli: `sdvi export-gltf` options, exit codes (0 ok, 1 failure, 2 usage) and
 # atomic output (a failed export leaves no file).
 #   cli_test.sh SDVI FIXTURE WORK_DIR
 set -u
@@ -23,17 +23,17 @@ expect() {
     echo "ok: export-gltf $* -> $got $(head -c 200 "$work/stderr")"
   fi
 }
-expect 1 "$work/out.png" "$work/in.sdvi" -o "$work/out.png"
-expect 1 "$work/out.glb" "$work/in.sdvi" -o "$work/out.glb" --position-bits 10
-expect 1 "$work/out.glb" "$work/in.sdvi" -o "$work/out.glb" --levels 9
-expect 1 "$work/out.glb" "$work/in.sdvi" -o "$work/out.glb" --draco --color-bits 31
-expect 1 "$work/out.glb" "$work/in.sdvi" -o "$work/out.glb" --levels two
-expect 1 "$work/out.glb" "$work/in.sdvi" -o "$work/out.glb" --bogus
-expect 1 - "$work/in.sdvi"
-expect 2 "$work/out.glb" "$work/missing.sdvi" -o "$work/out.glb"
-expect 2 "$work/nodir/out.glb" "$work/in.sdvi" -o "$work/nodir/out.glb"
+expect 2 "$work/out.png" "$work/in.sdvi" -o "$work/out.png"
+expect 2 "$work/out.glb" "$work/in.sdvi" -o "$work/out.glb" --position-bits 10
+expect 2 "$work/out.glb" "$work/in.sdvi" -o "$work/out.glb" --levels 9
+expect 2 "$work/out.glb" "$work/in.sdvi" -o "$work/out.glb" --draco --color-bits 31
+expect 2 "$work/out.glb" "$work/in.sdvi" -o "$work/out.glb" --levels two
+expect 2 "$work/out.glb" "$work/in.sdvi" -o "$work/out.glb" --bogus
+expect 2 - "$work/in.sdvi"
+expect 1 "$work/out.glb" "$work/missing.sdvi" -o "$work/out.glb"
+expect 1 "$work/nodir/out.glb" "$work/in.sdvi" -o "$work/nodir/out.glb"
 printf 'not an sdvi file' >"$work/junk.sdvi"
-expect 2 "$work/out.glb" "$work/junk.sdvi" -o "$work/out.glb"
+expect 1 "$work/out.glb" "$work/junk.sdvi" -o "$work/out.glb"
 
 expect 0 - "$work/in.sdvi" -o "$work/out.glb" --levels 1 --quiet
 [ -s "$work/stdout" ] && { echo "FAIL: --quiet printed $(cat "$work/stdout")"; failures=$((failures + 1)); }

@@ -14,6 +14,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <mutex>
 
 namespace sdvi {
@@ -165,9 +166,24 @@ void KeepModeAndOwner(const std::string& tmp, const struct stat& replaced) {
   }
 }
 
+// The file an input path names: "-" is standard input.
+std::string StdStreamPath(const std::string& path) { return path == "-" ? "/dev/stdin" : path; }
+
+// Writes a temporary file's bytes to standard output (which may be a regular file the
+// shell opened: it is written through, never renamed over).
+Status CopyToStdout(const std::string& tmp) {
+  std::ifstream in(tmp, std::ios::binary);
+  if (!in) return Status(StatusCode::kIoError, "standard output: the writer produced no file");
+  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return WriteAll(STDOUT_FILENO, bytes.data(), bytes.size(), "standard output");
+}
+
 }  // namespace
 
-StatusOr<std::vector<uint8_t>> ReadFileBytes(const std::string& path, uint64_t max_bytes) {
+bool IsStdStream(const std::string& path) { return path == "-"; }
+
+StatusOr<std::vector<uint8_t>> ReadFileBytes(const std::string& given_path, uint64_t max_bytes) {
+  const std::string path = StdStreamPath(given_path);
   std::error_code ec;
   if (!std::filesystem::exists(path, ec))
     return Status(StatusCode::kNotFound, path + ": no such file");
@@ -203,6 +219,7 @@ StatusOr<std::vector<uint8_t>> ReadFileBytes(const std::string& path, uint64_t m
 }
 
 Status WriteFileAtomic(const std::string& path, const void* data, size_t size) {
+  if (IsStdStream(path)) return WriteAll(STDOUT_FILENO, data, size, "standard output");
   if (!path.empty()) {
     SDVI_ASSIGN_OR_RETURN(OutputTarget target, ResolveOutput(path));
     if (target.exists && !target.regular) {
@@ -230,6 +247,20 @@ Status WriteFileAtomic(const std::string& path, const void* data, size_t size) {
 
 Status WriteViaTempFile(const std::string& path,
                         const std::function<Status(const std::string& temp_path)>& write) {
+  if (IsStdStream(path)) {
+    std::error_code ec;
+    const std::string tmp = TempSibling((std::filesystem::temp_directory_path(ec) / "stdout").string());
+    TempFileGuard guard(tmp);
+    Status status;
+    try {
+      status = write(tmp);
+    } catch (const std::exception& e) {
+      status = Status(StatusCode::kIoError, std::string("standard output: ") + e.what());
+    }
+    if (status.ok()) status = CopyToStdout(tmp);
+    std::filesystem::remove(tmp, ec);
+    return status;
+  }
   if (path.empty()) return Status(StatusCode::kInvalidArgument, "empty output path");
   SDVI_ASSIGN_OR_RETURN(OutputTarget target, ResolveOutput(path));
   // A non-regular target gets the bytes written into it; the temporary then lives in the
@@ -264,6 +295,7 @@ Status WriteViaTempFile(const std::string& path,
 }
 
 Status CheckOutputPath(const std::string& path, const std::vector<std::string>& inputs) {
+  if (IsStdStream(path)) return Status::Ok();
   if (path.empty()) return Status(StatusCode::kInvalidArgument, "empty output path");
   SDVI_ASSIGN_OR_RETURN(OutputTarget target, ResolveOutput(path));
   if (target.exists) {

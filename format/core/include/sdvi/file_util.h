@@ -20,6 +20,10 @@
 
 namespace sdvi {
 
+// True for "-", the path that means standard input (reading) or standard output (writing):
+// every function here reads /dev/stdin or writes through /dev/stdout for it.
+bool IsStdStream(const std::string& path);
+
 // The whole file as bytes; kNotFound / kIoError name the path; kLimitExceeded when it
 // holds more than max_bytes (checked before reading a regular file).
 StatusOr<std::vector<uint8_t>> ReadFileBytes(const std::string& path,
