@@ -94,7 +94,10 @@ struct InfoArgs {
 
 int Info(const InfoArgs& args) {
   const std::string& path = args.input;
-  auto file = ReadSdviFile(path);
+  // Read once: the input may be standard input.
+  auto file_bytes = ReadFileBytes(path);
+  if (!file_bytes.ok()) return ReportError("info", file_bytes.status());
+  auto file = DecodeSdvi(*file_bytes, path);
   if (!file.ok()) return ReportError("info", file.status());
   const Image& image = file->image;
   const bool raw = file->payload == PayloadKind::kRaw;
@@ -151,9 +154,7 @@ int Info(const InfoArgs& args) {
   }
 #ifdef SDVI_CLI_HAS_CODEC
   {  // Where the bytes go (PartBytes in sdvi/codec.h).
-    auto bytes = ReadFileBytes(path);
-    if (!bytes.ok()) return ReportError("info", bytes.status());
-    auto parts = MeasureParts(*bytes, path);
+    auto parts = MeasureParts(*file_bytes, path);
     if (!parts.ok()) return ReportError("info", parts.status());
     j["bytes_by_part"] = {{"connectivity", parts->connectivity}, {"positions", parts->positions},
                           {"colors", parts->colors},             {"tags", parts->tags},
