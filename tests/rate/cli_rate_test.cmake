@@ -68,17 +68,17 @@ endif()
 execute_process(COMMAND ${SDVI} vectorize ${WORK}/s.png -o ${WORK}/strict.sdvi --target-psnr 90 --strict
                         --threads 1 --quiet
                 RESULT_VARIABLE rc ERROR_VARIABLE err)
-if(rc EQUAL 0 OR EXISTS ${WORK}/strict.sdvi OR NOT err MATCHES "not reached.*nothing written")
+if(NOT rc EQUAL 1 OR EXISTS ${WORK}/strict.sdvi OR NOT err MATCHES "not reached.*nothing written")
   message(FATAL_ERROR "--strict with an unreachable target: exit ${rc}, stderr: ${err}")
 endif()
 # Usage errors: two targets, a quality out of range.
 execute_process(COMMAND ${SDVI} vectorize ${WORK}/s.png -o ${WORK}/two.sdvi --quality 50 --target-bytes 900
                 RESULT_VARIABLE rc ERROR_VARIABLE err)
-if(rc EQUAL 0 OR EXISTS ${WORK}/two.sdvi OR NOT err MATCHES "choose one of")
+if(NOT rc EQUAL 2 OR EXISTS ${WORK}/two.sdvi OR NOT err MATCHES "excludes")
   message(FATAL_ERROR "two targets: exit ${rc}, stderr: ${err}")
 endif()
 execute_process(COMMAND ${SDVI} vectorize ${WORK}/s.png -o ${WORK}/q.sdvi --quality 101
                 RESULT_VARIABLE rc ERROR_VARIABLE err)
-if(rc EQUAL 0 OR NOT err MATCHES "0..100")
+if(NOT rc EQUAL 2 OR NOT err MATCHES "not in range 0")
   message(FATAL_ERROR "--quality 101: exit ${rc}, stderr: ${err}")
 endif()
