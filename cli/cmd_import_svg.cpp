@@ -91,6 +91,7 @@ Status ImportCurves(const ImportSvgRequest& request) {
 }
 
 Status ImportSvgCommand(const ImportSvgRequest& request) {
+  if (request.mode == "curves") return ImportCurves(request);
   SvgArtworkOptions options;
   options.width = request.width;
   options.scale = request.scale;
