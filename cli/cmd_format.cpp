@@ -89,10 +89,11 @@ int Convert(const ConvertArgs& a) {
 // The options of `sdvi info`.
 struct InfoArgs {
   std::string input;
-  bool json = false;
+  bool json = false, features = false;
 };
 
 int Info(const InfoArgs& args) {
+  if (args.features) return PrintFeatures(args.input, args.json);
   const std::string& path = args.input;
   // Read once: the input may be standard input.
   auto file_bytes = ReadFileBytes(path);
@@ -236,8 +237,11 @@ void RegisterInfo(CLI::App& app, Outcome& outcome) {
   auto a = std::make_shared<InfoArgs>();
   CLI::App* c = AddCommand(
       app, "info", "what a .sdvi file holds: version, counts, tags, paper size, file size, payload",
-      {"sdvi info photo.sdvi", "sdvi info photo.sdvi --json"});
+      {"sdvi info photo.sdvi", "sdvi info photo.sdvi --json",
+       "sdvi info photo.sdvi --features   # feature ids for sdvi edit"});
   c->add_option("input", a->input, "the .sdvi file ('-' reads standard input)")->required()->type_name("FILE.sdvi");
+  c->add_flag("--features", a->features,
+              "list the features instead: id, kind, sharpness, length, bounding box, vertex count (spec/EDIT.md)");
   AddJson(c, a->json);
   SetAction(c, outcome, [a] { return Info(*a); });
 }

@@ -15,6 +15,7 @@
 #include "args.h"
 #include "commands.h"
 #include "io.h"
+#include "sdvi/edit.h"
 #include "sdvi/exr_io.h"
 #include "sdvi/file_util.h"
 #include "sdvi/raster_io.h"
@@ -44,7 +45,7 @@ StatusOr<std::array<int, 4>> ParseRegion(const std::string& text) {
 
 // The options of `sdvi render`.
 struct RenderArgs {
-  std::string input, output, region, reference, format;
+  std::string input, output, region, reference, format, overlay;
   double scale = 1.0;
   int width = 0, height = 0, levels = -1, bits = 8, threads = 0;
   bool half = false, quiet = false, json = false;
@@ -122,6 +123,7 @@ int Render(const RenderArgs& a) {
   if (ext == "exr" && a.bits_opt->count()) return ReportUsage(cmd, "--bits is for PNG; EXR takes --half");
   if (ext == "png" && (a.half || !a.reference.empty()))
     return ReportUsage(cmd, "--half and --reference are for EXR output");
+  if (!a.overlay.empty() && (ext != "png" || a.bits != 8)) return ReportUsage(cmd, "--overlay draws into an 8-bit PNG");
   if (a.json && IsStdStream(a.output)) return ReportUsage(cmd, "--json and -o - both use standard output");
   if (a.width_opt->count() && a.height_opt->count() && a.width == 0 && a.height == 0)
     return ReportUsage(cmd, "--width and --height must not both be 0");
@@ -141,6 +143,7 @@ int Render(const RenderArgs& a) {
   auto raster = Render(*image, options);
   if (!raster.ok()) return ReportError(cmd, Status(raster.status().code(), a.input + ": " + raster.status().message()));
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (a.overlay == "features") *raster = DrawFeatureOverlay(*raster, *image, *vp);
 
   Status written;
   if (ext == "png") {
@@ -245,7 +248,8 @@ void RegisterRender(CLI::App& app, Outcome& outcome) {
        "sdvi render in.sdvi -o big.png --scale 4        # 4x magnification",
        "sdvi render in.sdvi -o out.png --width 1920     # height keeps the aspect ratio",
        "sdvi render in.sdvi -o crop.exr --scale 8 --region 100,100,512,512 --half",
-       "sdvi render in.sdvi -o - --format png > out.png"});
+       "sdvi render in.sdvi -o - --format png > out.png",
+       "sdvi render in.sdvi -o ids.png --scale 3 --overlay features   # feature ids for sdvi edit"});
   c->add_option("input", a->input, "the .sdvi file ('-' reads standard input)")->required()->type_name("IN.sdvi");
   AddOutput(c, a->output, "the output image, .png (8/16-bit sRGB, alpha = domain) or .exr (linear light)");
   c->add_option("--format", a->format, "output format when -o does not tell it by extension")
@@ -262,6 +266,9 @@ void RegisterRender(CLI::App& app, Outcome& outcome) {
   c->add_flag("--half", a->half, "EXR: 16-bit half floats instead of 32-bit floats");
   c->add_option("--reference", a->reference, "EXR: add an 'error' channel against this image")->type_name("IMG");
   c->add_option("--threads", a->threads, "worker threads (0: all cores)")->check(CLI::Range(0, 256));
+  c->add_option("--overlay", a->overlay,
+                "draw over the render: 'features' = feature polylines, deBoor points and ids (P<n> pair, L<n> polyline)")
+      ->check(CLI::IsMember({"features"}));
   AddQuiet(c, a->quiet);
   AddJson(c, a->json);
   SetAction(c, outcome, [a] { return Render(*a); });

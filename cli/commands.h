@@ -5,6 +5,8 @@
 // module it drives.
 #pragma once
 
+#include <string>
+
 #include "args.h"
 
 namespace sdvi::cli {
@@ -20,5 +22,9 @@ void RegisterSubdivide(CLI::App& app, Outcome& outcome);   // cmd_subdivide.cpp:
 void RegisterExportGltf(CLI::App& app, Outcome& outcome);  // cmd_gltf.cpp: .sdvi -> .glb / .gltf
 void RegisterCompress(CLI::App& app, Outcome& outcome);    // cmd_codec.cpp: raw -> Draco payload
 void RegisterDecompress(CLI::App& app, Outcome& outcome);  // cmd_codec.cpp: Draco -> raw payload
+void RegisterEdit(CLI::App& app, Outcome& outcome);        // cmd_edit.cpp: edit a vectorized image
+
+// cmd_edit.cpp: `sdvi info --features`, the feature table (spec/EDIT.md); returns the exit code.
+int PrintFeatures(const std::string& input, bool json);
 
 }  // namespace sdvi::cli
