@@ -22,7 +22,7 @@ namespace {
 struct EditArgs {
   std::string input, output, script, transform;
   std::vector<std::string> sharpness, move, recolor;
-  bool quiet = false, json = false;
+  bool quiet = false, json = false, repair = false;
 };
 
 // The steps of the script, then of the short flags in the order --sharpness, --move,
@@ -85,7 +85,9 @@ int Edit(const EditArgs& a) {
   if (!file.ok()) return ReportError(command, file.status());
   auto image = DecodeImage(*bytes, a.input);
   if (!image.ok()) return ReportError(command, image.status());
-  auto edited = ApplyEdits(*image, *steps);
+  EditOptions options;
+  options.repair_folds = a.repair;
+  auto edited = ApplyEdits(*image, *steps, options);
   if (!edited.ok()) return ReportError(command, edited.status());
 
   // Unchanged: the input's bytes (a Draco payload would not re-encode to itself).
@@ -156,6 +158,8 @@ void RegisterEdit(CLI::App& app, Outcome& outcome) {
       ->type_name("SEL:R,G,B");
   c->add_option("--transform", a->transform, "affine map of every vertex: x' = A x + B y + C, y' = D x + E y + F")
       ->type_name("A,B,C,D,E,F");
+  c->add_flag("--repair", a->repair,
+              "re-triangulate folds by edge flips instead of refusing them (spec/EDIT.md, Validity)");
   AddQuiet(c, a->quiet);
   AddJson(c, a->json);
   SetAction(c, outcome, [a] { return Edit(*a); });
