@@ -22,6 +22,7 @@ void RegisterSubdivide(CLI::App& app, Outcome& outcome);   // cmd_subdivide.cpp:
 void RegisterExportGltf(CLI::App& app, Outcome& outcome);  // cmd_gltf.cpp: .sdvi -> .glb / .gltf
 void RegisterCompress(CLI::App& app, Outcome& outcome);    // cmd_codec.cpp: raw -> Draco payload
 void RegisterDecompress(CLI::App& app, Outcome& outcome);  // cmd_codec.cpp: Draco -> raw payload
+void RegisterExportPdf(CLI::App& app, Outcome& outcome);   // cmd_pdf.cpp: .sdvi -> PDF (ShadingType 4)
 void RegisterEdit(CLI::App& app, Outcome& outcome);        // cmd_edit.cpp: edit a vectorized image
 
 // cmd_edit.cpp: `sdvi info --features`, the feature table (spec/EDIT.md); returns the exit code.
