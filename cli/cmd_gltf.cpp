@@ -11,6 +11,7 @@
 #include "io.h"
 #include "sdvi/file_util.h"
 #include "sdvi/gltf.h"
+#include "sdvi/progress.h"
 
 namespace sdvi::cli {
 namespace {
@@ -31,9 +32,15 @@ int ExportGltf(const ExportGltfArgs& a) {
   if (auto container = GltfContainerForPath(a.output); !container.ok())
     return ReportUsage(kCommand, container.status().message());
 
+  if (a.options.embed && GltfContainerForPath(a.output).value() != GltfContainer::kText)
+    return ReportUsage(kCommand, "--embed is for .gltf output (a .glb carries its buffer inside)");
+
   auto image = LoadSdvi(a.input);
   if (!image.ok()) return ReportError(kCommand, image.status());
-  auto exported = WriteGltf(a.output, *image, a.options);
+  Progress progress(a.quiet || a.json);  // on a terminal only
+  GltfExportOptions options = a.options;
+  options.progress = &progress;
+  auto exported = WriteGltf(a.output, *image, options);
   if (!exported.ok()) {
     // Write errors name the output already; the others concern the input image.
     const Status& status = exported.status();
@@ -48,6 +55,8 @@ int ExportGltf(const ExportGltfArgs& a) {
     j["triangles"] = exported->triangles;
     j["bytes"] = exported->bytes.size();
     j["draco_bytes"] = exported->draco_bytes;
+    j["bin"] = exported->bin.empty() ? nlohmann::json(nullptr) : nlohmann::json(GltfBinPath(a.output));
+    j["bin_bytes"] = exported->bin.size();
     std::printf("%s\n", j.dump(2).c_str());
   } else if (!a.quiet) {
     std::FILE* out = SummaryStream(a.output);
@@ -55,6 +64,8 @@ int ExportGltf(const ExportGltfArgs& a) {
                  exported->levels, exported->vertices, exported->triangles, exported->bytes.size());
     if (a.options.draco)
       std::fprintf(out, " (Draco surface %llu bytes)", (unsigned long long)exported->draco_bytes);
+    if (!exported->bin.empty())
+      std::fprintf(out, " + %s (%zu bytes)", GltfBinPath(a.output).c_str(), exported->bin.size());
     std::fprintf(out, "\n");
   }
   return kExitOk;
@@ -68,7 +79,8 @@ void RegisterExportGltf(CLI::App& app, Outcome& outcome) {
   CLI::App* c = AddCommand(
       app, "export-gltf", "write the limit surface as glTF 2.0 for viewers (unlit, linear vertex colours)",
       {"sdvi export-gltf in.sdvi -o out.glb", "sdvi export-gltf in.sdvi -o out.glb --draco --levels 3",
-       "sdvi export-gltf in.sdvi -o out.gltf --control-mesh"});
+       "sdvi export-gltf in.sdvi -o out.gltf --control-mesh   (writes out.gltf and out.bin)",
+       "sdvi export-gltf in.sdvi -o out.gltf --embed           (one file, base64 buffer)"});
   c->add_option("input", a->input, "the .sdvi file ('-' reads standard input)")->required()->type_name("IN.sdvi");
   AddOutput(c, a->output, "OUT.glb (binary) or OUT.gltf (JSON)");
   c->add_option("--levels", o.levels, "subdivision level r (-1: about one fine triangle per pixel)")
@@ -80,6 +92,7 @@ void RegisterExportGltf(CLI::App& app, Outcome& outcome) {
       ->check(CLI::Range(1, 30))->needs(a->draco);
   c->add_option("--speed", o.draco_speed, "Draco: speed 0 (smallest) .. 10 (fastest)")
       ->check(CLI::Range(0, 10))->needs(a->draco);
+  c->add_flag("--embed", o.embed, ".gltf: the buffer as base64 inside the JSON instead of OUT.bin beside it");
   c->add_flag("--control-mesh", o.control_mesh, "add the control mesh (triangles and crease lines) as a second node");
   c->add_option("--copyright", o.copyright, "asset.copyright (empty: the file's 'copyright' metadata)")
       ->type_name("TEXT");

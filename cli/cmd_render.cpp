@@ -17,6 +17,7 @@
 #include "io.h"
 #include "sdvi/edit.h"
 #include "sdvi/exr_io.h"
+#include "sdvi/progress.h"
 #include "sdvi/file_util.h"
 #include "sdvi/raster_io.h"
 #include "sdvi/render.h"
@@ -139,28 +140,43 @@ int Render(const RenderArgs& a) {
   options.viewport = *vp;
   options.levels = a.levels;
   options.threads = a.threads;
+  Progress progress(a.quiet || a.json);  // on a terminal only
+  options.progress = &progress;
   const auto start = std::chrono::steady_clock::now();
-  auto raster = Render(*image, options);
-  if (!raster.ok()) return ReportError(cmd, Status(raster.status().code(), a.input + ": " + raster.status().message()));
+  auto rendered = Render(*image, options);
+  if (!rendered.ok()) return ReportError(cmd, Status(rendered.status().code(), a.input + ": " + rendered.status().message()));
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (a.overlay == "features") *raster = DrawFeatureOverlay(*raster, *image, *vp);
+  // Alpha only where the surface does not cover the output; grey when R = G = B everywhere.
+  if (a.overlay == "features") *rendered = DrawFeatureOverlay(*rendered, *image, *vp);
+  const Raster raster = WithNeededChannels(*rendered);
 
   Status written;
   if (ext == "png") {
-    written = SaveRasterPng(a.output, *raster, a.bits);
+    written = SaveRasterPng(a.output, raster, a.bits);
   } else {
     ExrWriteOptions exr;
     exr.half = a.half;
+    if (!a.region.empty()) {
+      // The region keeps its place in the whole render: data window inside the display window.
+      RenderArgs whole = a;
+      whole.region.clear();
+      auto full = OutputViewport(*image, whole);
+      auto r = ParseRegion(a.region);
+      if (full.ok() && r.ok()) {
+        exr.data_x = (*r)[0], exr.data_y = (*r)[1];
+        exr.display_width = full->width, exr.display_height = full->height;
+      }
+    }
     std::vector<float> error;
     if (!a.reference.empty()) {
       auto ref = LoadRaster(a.reference);
       if (!ref.ok()) return ReportError(cmd, ref.status());
-      auto e = ErrorChannel(*raster, *ref);
+      auto e = ErrorChannel(raster, *ref);
       if (!e.ok()) return ReportError(cmd, Status(e.status().code(), a.reference + ": " + e.status().message()));
       error = std::move(*e);
       exr.error = &error;
     }
-    written = SaveExr(a.output, *raster, exr);
+    written = SaveExr(a.output, raster, exr);
   }
   if (!written.ok()) return ReportError(cmd, written);
   const int level = std::min(ChooseRenderLevels(*image, options), kMaxLevels);

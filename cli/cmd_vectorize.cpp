@@ -101,7 +101,10 @@ Status VectorizeCommand(VectorizeArgs& args) {
   const std::string& output = args.output;
 
   const Clock::time_point load_start = Clock::now();
-  SDVI_ASSIGN_OR_RETURN(Raster raster, LoadRaster(input));
+  RasterSource source;
+  SDVI_ASSIGN_OR_RETURN(Raster raster, LoadRaster(input, &source));
+  // What the user should know about the input (spec/RASTER_INPUT.md), even with --quiet.
+  for (const std::string& warning : source.warnings) std::fprintf(stderr, "sdvi vectorize: warning: %s\n", warning.c_str());
   Raster mask;
   const bool has_mask = !args.mask.empty();
   if (has_mask) {

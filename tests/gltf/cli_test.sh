@@ -43,7 +43,14 @@ expect 0 - "$work/in.sdvi" -o "$work/out.gltf" --draco --position-bits 12 --colo
 grep -q 'Draco surface' "$work/stdout" || { echo "FAIL: no summary line"; failures=$((failures + 1)); }
 [ "$(head -c 1 "$work/out.gltf")" = "{" ] || { echo "FAIL: out.gltf is not JSON"; failures=$((failures + 1)); }
 grep -q '"copyright": "CC0 test"' "$work/out.gltf" || { echo "FAIL: copyright missing"; failures=$((failures + 1)); }
+grep -q '"uri": "out.bin"' "$work/out.gltf" && [ -s "$work/out.bin" ] ||
+  { echo "FAIL: out.gltf does not refer to an out.bin beside it"; failures=$((failures + 1)); }
 grep -q 'KHR_draco_mesh_compression' "$work/out.gltf" || { echo "FAIL: no Draco extension"; failures=$((failures + 1)); }
+# --embed: one .gltf with the buffer inside and no .bin; --embed with .glb is a usage error.
+expect 0 - "$work/in.sdvi" -o "$work/one.gltf" --levels 1 --embed --quiet
+grep -q '"uri": "data:application/octet-stream;base64,' "$work/one.gltf" && [ ! -e "$work/one.bin" ] ||
+  { echo "FAIL: --embed did not give one self-contained .gltf"; failures=$((failures + 1)); }
+expect 2 "$work/embed.glb" "$work/in.sdvi" -o "$work/embed.glb" --embed
 leftovers=$(find "$work" -name '*tmp*' | wc -l)
 [ "$leftovers" -eq 0 ] || { echo "FAIL: temporary files left: $(find "$work" -name '*tmp*')"; failures=$((failures + 1)); }
 echo "$failures failures"

@@ -42,6 +42,25 @@ expect_png_size(${WORK}/w50.png 50 50)
 run_sdvi(0 render ${golden} --scale 3 --region 10,20,30,17 -o ${WORK}/region.png --quiet)
 expect_png_size(${WORK}/region.png 30 17)
 
+# RGB stays RGB: a full-frame colour render is an RGB PNG (IHDR colour type 2) tagged sRGB.
+file(READ ${WORK}/x1.png colour_type OFFSET 25 LIMIT 1 HEX)
+file(READ ${WORK}/x1.png head LIMIT 120 HEX)
+string(FIND "${head}" "73524742" srgb_at)  # the sRGB chunk's type
+if(NOT colour_type STREQUAL "02" OR srgb_at LESS 0)
+  message(FATAL_ERROR "x1.png: colour type ${colour_type} (02 expected), sRGB chunk at ${srgb_at}")
+endif()
+
+# An EXR region keeps its place: data window (10 20) - (39 36) in the 72x72 display window.
+run_sdvi(0 render ${golden} --scale 3 --region 10,20,30,17 -o ${WORK}/region.exr --quiet)
+find_program(EXRHEADER exrheader)
+if(EXRHEADER)
+  execute_process(COMMAND ${EXRHEADER} ${WORK}/region.exr RESULT_VARIABLE rc OUTPUT_VARIABLE header)
+  if(NOT rc EQUAL 0 OR NOT header MATCHES "dataWindow \\(type box2i\\): \\(10 20\\) - \\(39 36\\)" OR
+     NOT header MATCHES "displayWindow \\(type box2i\\): \\(0 0\\) - \\(71 71\\)" OR header MATCHES "\n +A, ")
+    message(FATAL_ERROR "region.exr: data/display window or channels wrong:\n${header}")
+  endif()
+endif()
+
 # EXR with an error channel against a reference of the same size.
 run_sdvi(0 render ${golden} -o ${WORK}/x1.exr --half --reference ${WORK}/x1.png --quiet)
 find_program(EXRHEADER exrheader)
