@@ -2,11 +2,34 @@
 #include "args.h"
 
 #include <cstdio>
+#include <map>
 #include <new>
 
 #include "sdvi/file_util.h"
 
 namespace sdvi::cli {
+namespace {
+
+// The files each command reads and writes (MarkInput, MarkOutput), read when it runs.
+struct FileRoles {
+  std::vector<const std::string*> inputs, outputs;
+};
+std::map<const CLI::App*, FileRoles>& Roles() {
+  static std::map<const CLI::App*, FileRoles> roles;
+  return roles;
+}
+
+Status CheckOutputs(const CLI::App* command) {
+  const FileRoles& roles = Roles()[command];
+  std::vector<std::string> inputs;
+  for (const std::string* in : roles.inputs)
+    if (!in->empty()) inputs.push_back(*in);
+  for (const std::string* out : roles.outputs)
+    if (!out->empty()) SDVI_RETURN_IF_ERROR(CheckOutputPath(*out, inputs));
+  return Status::Ok();
+}
+
+}  // namespace
 
 CLI::App* AddCommand(CLI::App& app, const std::string& name, const std::string& description,
                      const std::vector<std::string>& examples) {
@@ -22,7 +45,8 @@ CLI::App* AddCommand(CLI::App& app, const std::string& name, const std::string& 
 void SetAction(CLI::App* command, Outcome& outcome, std::function<int()> run) {
   command->callback([command, &outcome, run = std::move(run)] {
     try {
-      outcome.exit_code = run();
+      const Status outputs = CheckOutputs(command);
+      outcome.exit_code = outputs.ok() ? run() : ReportError(command->get_name(), outputs);
     } catch (const std::bad_alloc&) {
       outcome.exit_code = ReportError(command->get_name(),
                                       Status(StatusCode::kLimitExceeded, "out of memory"));
@@ -33,7 +57,11 @@ void SetAction(CLI::App* command, Outcome& outcome, std::function<int()> run) {
   });
 }
 
+void MarkInput(CLI::App* command, const std::string& path) { Roles()[command].inputs.push_back(&path); }
+void MarkOutput(CLI::App* command, const std::string& path) { Roles()[command].outputs.push_back(&path); }
+
 CLI::Option* AddOutput(CLI::App* command, std::string& path, const std::string& what) {
+  MarkOutput(command, path);
   return command->add_option("-o,--output", path, what + " ('-' writes standard output)")
       ->required()
       ->type_name("FILE");

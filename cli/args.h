@@ -32,7 +32,15 @@ CLI::App* AddCommand(CLI::App& app, const std::string& name, const std::string& 
 void SetAction(CLI::App* command, Outcome& outcome, std::function<int()> run);
 
 // Adds "-o,--output FILE" (required) with the given meaning; "-" is standard output.
+// The path is marked as an output (MarkOutput).
 CLI::Option* AddOutput(CLI::App* command, std::string& path, const std::string& what);
+
+// Declare the files a command reads and writes. Before its action runs, every non-empty
+// output is checked against every input (CheckOutputPath: its directory exists and is
+// writable, it is not a directory, it is not one of the inputs), so a command whose output
+// cannot be written fails before any work and leaves nothing behind.
+void MarkInput(CLI::App* command, const std::string& path);
+void MarkOutput(CLI::App* command, const std::string& path);
 // Adds "--quiet" (no progress, no summary line).
 CLI::Option* AddQuiet(CLI::App* command, bool& quiet);
 // Adds "--json" (the result as JSON on standard output).

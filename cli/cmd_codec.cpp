@@ -98,11 +98,13 @@ void RegisterCompress(CLI::App& app, Outcome& outcome) {
       {"sdvi compress in.sdvi -o small.sdvi",
        "sdvi compress in.sdvi -o small.sdvi --reference original.png   # quantise from the fit's error",
        "sdvi compress in.sdvi -o small.sdvi --position-bits 14 --color-bits 8 --speed 0"});
+  MarkInput(c, a->input);
   c->add_option("input", a->input, "the .sdvi file (any payload; '-' reads standard input)")->required()->type_name("IN.sdvi");
   AddOutput(c, a->output, "the compressed .sdvi file");
   c->add_option("--position-bits", o.position_bits, "quantisation bits for x, y (0: automatic)")->check(CLI::Range(0, 30));
   c->add_option("--color-bits", o.color_bits, "quantisation bits for R, G, B (0: automatic)")->check(CLI::Range(0, 30));
   c->add_option("--speed", o.speed, "Draco speed: 0 smallest file .. 10 fastest")->check(CLI::Range(0, 10));
+  MarkInput(c, a->reference);
   auto* reference = c->add_option("--reference", a->reference,
                                   "the original image: the automatic bit depths keep the error added to ~1% of the fit's")
                         ->type_name("IMG");
@@ -121,6 +123,7 @@ void RegisterDecompress(CLI::App& app, Outcome& outcome) {
   auto a = std::make_shared<CodecArgs>();
   CLI::App* c = AddCommand(app, "decompress", "re-encode a .sdvi with the raw payload",
                            {"sdvi decompress small.sdvi -o raw.sdvi"});
+  MarkInput(c, a->input);
   c->add_option("input", a->input, "the .sdvi file (any payload; '-' reads standard input)")->required()->type_name("IN.sdvi");
   AddOutput(c, a->output, "the raw-payload .sdvi file");
   AddQuiet(c, a->quiet);

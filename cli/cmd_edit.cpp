@@ -143,10 +143,12 @@ void RegisterEdit(CLI::App& app, Outcome& outcome) {
        "sdvi edit in.sdvi -o out.sdvi --move pair:2:4,0 --recolor polyline:7:255,0,0",
        "sdvi edit in.sdvi -o out.sdvi --transform 1,0,10,0,1,-5   # x' = x + 10, y' = y - 5",
        "sdvi info in.sdvi --features                            # the ids to pick from"});
+  MarkInput(c, a->input);
   c->add_option("input", a->input, "the .sdvi file (raw or Draco payload; '-' reads standard input)")
       ->required()
       ->type_name("IN.sdvi");
   AddOutput(c, a->output, "the edited .sdvi file, with the input's payload kind");
+  MarkInput(c, a->script);
   c->add_option("--script", a->script, "a JSON edit script (spec/EDIT.md; '-' reads standard input); runs first")
       ->type_name("FILE");
   c->add_option("--sharpness", a->sharpness, "set the sharpness of a pair: PAIR=S, S in [0, 1] (repeatable)")

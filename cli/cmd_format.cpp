@@ -228,7 +228,9 @@ void RegisterConvert(CLI::App& app, Outcome& outcome) {
   CLI::App* c = AddCommand(
       app, "convert", "convert between .sdvi and the human-readable mesh JSON (spec/MESH_JSON.md); outputs are canonical",
       {"sdvi convert in.sdvi mesh.json", "sdvi convert mesh.json out.sdvi"});
+  MarkInput(c, a->input);
   c->add_option("input", a->input, "a .sdvi (any payload) or a mesh .json; '-' reads standard input")->required()->type_name("IN");
+  MarkOutput(c, a->output);
   c->add_option("output", a->output, "OUT.sdvi or OUT.json (the extension chooses the format)")->required()->type_name("OUT");
   SetAction(c, outcome, [a] { return Convert(*a); });
 }

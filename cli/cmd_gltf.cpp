@@ -81,6 +81,7 @@ void RegisterExportGltf(CLI::App& app, Outcome& outcome) {
       {"sdvi export-gltf in.sdvi -o out.glb", "sdvi export-gltf in.sdvi -o out.glb --draco --levels 3",
        "sdvi export-gltf in.sdvi -o out.gltf --control-mesh   (writes out.gltf and out.bin)",
        "sdvi export-gltf in.sdvi -o out.gltf --embed           (one file, base64 buffer)"});
+  MarkInput(c, a->input);
   c->add_option("input", a->input, "the .sdvi file ('-' reads standard input)")->required()->type_name("IN.sdvi");
   AddOutput(c, a->output, "OUT.glb (binary) or OUT.gltf (JSON)");
   c->add_option("--levels", o.levels, "subdivision level r (-1: about one fine triangle per pixel)")

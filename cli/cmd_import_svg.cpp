@@ -149,6 +149,7 @@ void RegisterImportSvg(CLI::App& app, Outcome& outcome) {
       {"sdvi import-svg logo.svg -o logo.sdvi", "sdvi import-svg icon.svg -o icon.sdvi --width 512 --max-triangles 4000",
        "sdvi import-svg art.svg -o art.sdvi --scale 2 --report report.json",
        "sdvi import-svg examples/curves/cherries.svg -o cherries.sdvi --mode curves"});
+  MarkInput(c, r->input);
   c->add_option("input", r->input, "the SVG file ('-' reads standard input)")->required()->type_name("IN.svg");
   AddOutput(c, r->output, "the .sdvi file to write");
   c->add_option("--mode", r->mode,
@@ -161,6 +162,7 @@ void RegisterImportSvg(CLI::App& app, Outcome& outcome) {
   c->add_option("--max-triangles", r->max_triangles, "triangle budget (0: automatic)")->check(CLI::Range(0, 1 << 30));
   c->add_option("--target-psnr", r->target_psnr, "stop refining at this PSNR in dB against librsvg (0: no target)")
       ->check(CLI::Range(0.0, 200.0));
+  MarkOutput(c, r->report);
   c->add_option("--report", r->report, "write the report as JSON")->type_name("R.json");
   c->add_option("--debug-dir", r->debug_dir, "write reference, features, mesh, reconstruction and error pictures here")
       ->type_name("DIR");

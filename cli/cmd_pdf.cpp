@@ -70,6 +70,7 @@ void RegisterExportPdf(CLI::App& app, Outcome& outcome) {
       "write the limit surface as a one-page PDF (a Gouraud-shaded triangle mesh, any size)",
       {"sdvi export-pdf in.sdvi -o out.pdf", "sdvi export-pdf in.sdvi -o out.pdf --dpi 300 --background white",
        "sdvi export-pdf in.sdvi -o out.pdf --width-mm 180 --levels 3"});
+  MarkInput(c, a->input);
   c->add_option("input", a->input, "the .sdvi file ('-' reads standard input)")->required()->type_name("IN.sdvi");
   AddOutput(c, a->output, "OUT.pdf");
   c->add_option("--levels", o.levels, "subdivision level r (-1: fine triangles of about 2 source pixels)")

@@ -266,6 +266,7 @@ void RegisterRender(CLI::App& app, Outcome& outcome) {
        "sdvi render in.sdvi -o crop.exr --scale 8 --region 100,100,512,512 --half",
        "sdvi render in.sdvi -o - --format png > out.png",
        "sdvi render in.sdvi -o ids.png --scale 3 --overlay features   # feature ids for sdvi edit"});
+  MarkInput(c, a->input);
   c->add_option("input", a->input, "the .sdvi file ('-' reads standard input)")->required()->type_name("IN.sdvi");
   AddOutput(c, a->output, "the output image, .png (8/16-bit sRGB, alpha = domain) or .exr (linear light)");
   c->add_option("--format", a->format, "output format when -o does not tell it by extension")
@@ -280,6 +281,7 @@ void RegisterRender(CLI::App& app, Outcome& outcome) {
   c->add_option("--levels", a->levels, "subdivision level r (-1: chosen from the scale)")->check(CLI::Range(-1, 8));
   a->bits_opt = c->add_option("--bits", a->bits, "PNG bits per channel")->check(CLI::IsMember({8, 16}));
   c->add_flag("--half", a->half, "EXR: 16-bit half floats instead of 32-bit floats");
+  MarkInput(c, a->reference);
   c->add_option("--reference", a->reference, "EXR: add an 'error' channel against this image")->type_name("IMG");
   c->add_option("--threads", a->threads, "worker threads (0: all cores)")->check(CLI::Range(0, 256));
   c->add_option("--overlay", a->overlay,

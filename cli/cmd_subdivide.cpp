@@ -105,6 +105,7 @@ void RegisterSubdivide(CLI::App& app, Outcome& outcome) {
   CLI::App* c = AddCommand(
       app, "subdivide", "write the level-r refined mesh (or its limit surface) as binary PLY with colours and tags",
       {"sdvi subdivide in.sdvi --levels 3 -o fine.ply", "sdvi subdivide in.sdvi --levels 2 --limit -o limit.ply"});
+  MarkInput(c, a->input);
   c->add_option("input", a->input, "the .sdvi file ('-' reads standard input)")->required()->type_name("IN.sdvi");
   AddOutput(c, a->output, "the PLY file");
   c->add_option("--levels", a->levels, "subdivision level r")->check(CLI::Range(0, 8));

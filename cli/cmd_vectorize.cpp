@@ -236,6 +236,7 @@ void RegisterVectorize(CLI::App& app, Outcome& outcome) {
        "sdvi vectorize photo.png -o photo.sdvi --compression-ratio 25 --report report.json",
        "sdvi vectorize logo.png -o logo.sdvi --target-psnr 40 --compress",
        "cat photo.png | sdvi vectorize - -o - > photo.sdvi"});
+  MarkInput(c, a->input);
   c->add_option("input", a->input, "the image: PNG, JPEG, TIFF, BMP (8/16-bit; grey, RGB, RGBA); '-' reads standard input")
       ->required()->type_name("IN");
   AddOutput(c, a->output, "the .sdvi file to write");
@@ -248,8 +249,10 @@ void RegisterVectorize(CLI::App& app, Outcome& outcome) {
       ->check(CLI::Range(1.0, 1e6));
   c->add_option("--iterations", o.iterations, "refinement rounds at most (0: the initial fit only)")
       ->check(CLI::Range(0, 1000));
+  MarkInput(c, a->mask);
   c->add_option("--mask", a->mask, "an image of the same size whose non-zero pixels bound the domain (object image)")
       ->type_name("IMG");
+  MarkOutput(c, a->report);
   c->add_option("--report", a->report, "write the report (sizes, PSNR, MSSIM, timings, history) as JSON")
       ->type_name("R.json");
   c->add_option("--debug-dir", a->debug_dir, "write features.png, mesh.png, reconstruction.png, error.png here")

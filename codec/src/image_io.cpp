@@ -62,24 +62,51 @@ StatusOr<Image> ReadImage(const std::string& path, const ReadOptions& options) {
   return DecodeImage(bytes, path, options);
 }
 
-StatusOr<std::vector<uint8_t>> EncodeImage(const Image& image, const CompressOptions* compress,
-                                           const std::string& source_name) {
-  SDVI_RETURN_IF_ERROR(ValidateImage(image, source_name));
-  if (!compress) return EncodeSdvi(image);
+namespace {
+
+// The container for image with a Draco payload at the given options (no read-back check).
+StatusOr<std::vector<uint8_t>> EncodeCompressed(const Image& image, const CompressOptions& compress) {
   std::vector<uint32_t> new_index;
-  SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> payload,
-                        EncodeDracoPayload(image, *compress, &new_index));
+  SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> payload, EncodeDracoPayload(image, compress, &new_index));
   Image rest = image;
   SDVI_RETURN_IF_ERROR(RenumberVertices(new_index, &rest));
   rest.vertices.clear();
   rest.triangles.clear();
   rest.crease_edges.clear();
   rest.corners.clear();
-  if (compress->feature_layer) {
+  if (compress.feature_layer) {
     rest.polylines.clear();
     rest.pairs.clear();
   }
-  return EncodeSdviCompressed(rest, payload, SummaryOf(payload, compress->container_params));
+  return EncodeSdviCompressed(rest, payload, SummaryOf(payload, compress.container_params));
+}
+
+}  // namespace
+
+StatusOr<std::vector<uint8_t>> EncodeImage(const Image& image, const CompressOptions* compress,
+                                           const std::string& source_name) {
+  SDVI_RETURN_IF_ERROR(ValidateImage(image, source_name));
+  if (!compress) return EncodeSdvi(image);
+  // The file is read back before it is returned: the writer never produces a file its
+  // reader refuses (spec/FORMAT.md 8.2). Quantised positions can fold a thin triangle;
+  // with default position bits the bits are raised until none folds, explicit bits that
+  // fold are kFoldedTriangle.
+  CompressOptions options = *compress;
+  const bool default_bits = options.position_bits == 0;
+  if (default_bits) options.position_bits = DefaultPositionBits(image, options.reference_mse);
+  for (;;) {
+    SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> file, EncodeCompressed(image, options));
+    const Status read_back = DecodeImage(file, source_name + " (compressed)").status();
+    if (read_back.ok()) return file;
+    if (read_back.code() != StatusCode::kFoldedTriangle)
+      return Status(StatusCode::kEncodeFailed,
+                    source_name + ": the compressed file does not read back: " + read_back.ToString());
+    if (!default_bits || options.position_bits >= kMaxQuantizationBits)
+      return Status(StatusCode::kFoldedTriangle, read_back.message() + " once positions are quantised to " +
+                                                     std::to_string(options.position_bits) +
+                                                     " bits; use more position bits");
+    ++options.position_bits;
+  }
 }
 
 Status WriteImage(const std::string& path, const Image& image, const CompressOptions* compress) {

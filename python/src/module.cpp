@@ -255,9 +255,8 @@ py::object RenderPy(const ImageSource& source, std::optional<std::string> output
   {
     py::gil_scoped_release release;
     raster = Take(Render(image, options));
-    if (output) {
-      Check(SaveRasterPng(*output, raster, bits));
-    }
+    // The file holds what `sdvi render` writes: only the channels needed (RGB stays RGB).
+    if (output) Check(SaveRasterPng(*output, WithNeededChannels(raster), bits));
   }
   if (output) return py::none();
   return ArrayFromRaster(raster);

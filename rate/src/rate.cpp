@@ -96,9 +96,15 @@ StatusOr<RateResult> CompressForRate(const VectorizeResult& vectorized, const Ra
     return c;
   };
 
+  // Bits whose quantised positions fold a triangle give no file (EncodeImage refuses them):
+  // the start rises until it encodes, the descent stops there.
+  const auto folds = [](const Status& s) { return s.code() == StatusCode::kFoldedTriangle; };
   int position_bits = DefaultPositionBits(image, fit_mse);
-  int color_bits = DefaultColorBits(image, fit_mse);
-  SDVI_ASSIGN_OR_RETURN(Candidate best, evaluate(position_bits, color_bits, nullptr));
+  const int color_bits = DefaultColorBits(image, fit_mse);
+  StatusOr<Candidate> start = evaluate(position_bits, color_bits, nullptr);
+  while (!start.ok() && folds(start.status()) && position_bits < kMaxQuantizationBits)
+    start = evaluate(++position_bits, color_bits, nullptr);
+  SDVI_ASSIGN_OR_RETURN(Candidate best, std::move(start));
   if (options.search_bits) {
     // Coordinate descent: positions, then colours, one bit at a time while J falls.
     for (int attribute = 0; attribute < 2; ++attribute) {
@@ -106,7 +112,9 @@ StatusOr<RateResult> CompressForRate(const VectorizeResult& vectorized, const Ra
         const int p = best.position_bits - (attribute == 0 ? 1 : 0);
         const int c = best.color_bits - (attribute == 1 ? 1 : 0);
         if (p < kMinBits || c < kMinBits) break;
-        SDVI_ASSIGN_OR_RETURN(Candidate next, evaluate(p, c, attribute == 1 ? &best : nullptr));
+        StatusOr<Candidate> tried = evaluate(p, c, attribute == 1 ? &best : nullptr);
+        if (!tried.ok() && folds(tried.status())) break;
+        SDVI_ASSIGN_OR_RETURN(Candidate next, std::move(tried));
         if (next.psnr < options.min_psnr) break;
         if (!(next.Cost(result.slope_db) < best.Cost(result.slope_db))) break;
         best = std::move(next);

@@ -162,3 +162,40 @@ TEST_CASE("container params are optional: without them the file is smaller and d
   CHECK(fb->payload_summary.params.size() == 5);
   CHECK(fa->payload_summary.vertex_count == fb->payload_summary.vertex_count);
 }
+
+TEST_CASE("the writer reads back what it writes: position bits that fold a triangle are refused, default bits rise",
+          "[codec][io]") {
+  // A dense jittered grid: coarse position grids move vertices across their neighbours' edges.
+  const Image image = sdvi::testing::SyntheticGridImage(64, 64, 97, 97);
+  int folded = 0, lowest_fold_free = 0;
+  for (int bits = 4; bits <= 16; ++bits) {
+    CompressOptions options;
+    options.position_bits = bits;
+    const auto file = sdvi::EncodeImage(image, &options);
+    if (file.ok()) {
+      CHECK(sdvi::DecodeImage(*file, "read back").ok());
+      if (lowest_fold_free == 0) lowest_fold_free = bits;
+    } else {
+      INFO(file.status().ToString());
+      CHECK(file.status().code() == StatusCode::kFoldedTriangle);
+      CHECK(file.status().message().find("quantised to " + std::to_string(bits) + " bits") != std::string::npos);
+      ++folded;
+    }
+  }
+  CHECK(folded > 0);
+  REQUIRE(lowest_fold_free > 0);
+  // Default bits from a large reference MSE start coarse and rise until nothing folds.
+  CompressOptions coarse;
+  coarse.reference_mse = 1e6;
+  const auto file = sdvi::EncodeImage(image, &coarse);
+  REQUIRE(file.ok());
+  CHECK(sdvi::DecodeImage(*file, "read back").ok());
+  auto sdvi_file = sdvi::DecodeSdvi(*file, "read back");
+  REQUIRE(sdvi_file.ok());
+  const auto info = sdvi::InspectDracoPayload(sdvi_file->compressed_payload, "read back");
+  REQUIRE(info.ok());
+  CHECK(info->position_bits >= sdvi::DefaultPositionBits(image, coarse.reference_mse));
+  INFO("default bits " << sdvi::DefaultPositionBits(image, coarse.reference_mse) << ", used "
+                       << info->position_bits << ", lowest fold-free " << lowest_fold_free);
+  CHECK(info->position_bits >= std::min(lowest_fold_free, 24));
+}

@@ -70,5 +70,42 @@ for m in duplicate_triangle:duplicate_triangle non_manifold:non_manifold_edge fo
   expect "${m#*:}" "${m%%:*}.json" "$WORK/m.sdvi" -- convert "$DATA/bad/${m%%:*}.json" "$WORK/m.sdvi"
 done
 
+# Output paths (issue 16, cases 2 and 6): checked before any work, inputs never replaced,
+# non-regular targets written through, symlinks followed.
+fail() { failures=$((failures + 1)); echo "FAIL: $*" >&2; }
+"$SDVI" sample -o "$WORK/s.png" --width 48 --height 32 >/dev/null || fail "sample"
+cp "$WORK/s.png" "$WORK/keep.png"
+cp "$GOLDEN" "$WORK/g.sdvi"
+for c in "vectorize $WORK/s.png -o $WORK/s.png" "vectorize $WORK/s.png -o $WORK/v.sdvi --report $WORK/s.png" \
+         "render $WORK/g.sdvi -o $WORK/g.sdvi" "convert $WORK/g.sdvi $WORK/g.sdvi" "compress $WORK/g.sdvi -o $WORK/g.sdvi"; do
+  cases=$((cases + 1))
+  # shellcheck disable=SC2086
+  "$SDVI" $c >/dev/null 2>"$WORK/err.txt"; rc=$?
+  [ $rc -eq 1 ] && grep -q "is the input file" "$WORK/err.txt" || fail "sdvi $c: exit $rc, $(head -1 "$WORK/err.txt")"
+  cmp -s "$WORK/s.png" "$WORK/keep.png" && cmp -s "$WORK/g.sdvi" "$GOLDEN" || fail "sdvi $c: the input changed"
+  [ ! -e "$WORK/v.sdvi" ] || fail "sdvi $c: wrote v.sdvi"
+done
+cases=$((cases + 1))
+"$SDVI" vectorize "$WORK/s.png" -o "$WORK/v.sdvi" --report "$WORK/nodir/r.json" >/dev/null 2>"$WORK/err.txt"; rc=$?
+[ $rc -eq 1 ] && grep -q "nodir" "$WORK/err.txt" && [ ! -e "$WORK/v.sdvi" ] ||
+  fail "vectorize --report nodir/r.json: exit $rc, v.sdvi $( [ -e "$WORK/v.sdvi" ] && echo written)"
+"$SDVI" render "$GOLDEN" -o "$WORK/ref.png" --quiet || fail "render to a regular file"
+# A FIFO gets the bytes and stays a FIFO; a symlink stays a link and its target is replaced.
+cases=$((cases + 2))
+mkfifo "$WORK/fifo.png"
+cat "$WORK/fifo.png" >"$WORK/from_fifo.png" &
+"$SDVI" render "$GOLDEN" -o "$WORK/fifo.png" --quiet || fail "render to a FIFO"
+wait
+[ -p "$WORK/fifo.png" ] && cmp -s "$WORK/from_fifo.png" "$WORK/ref.png" || fail "render to a FIFO: not written through"
+echo old >"$WORK/target.png" && chmod 640 "$WORK/target.png" && ln -s target.png "$WORK/link.png"
+"$SDVI" render "$GOLDEN" -o "$WORK/link.png" --quiet || fail "render to a symlink"
+[ -L "$WORK/link.png" ] && cmp -s "$WORK/target.png" "$WORK/ref.png" && [ "$(stat -c %a "$WORK/target.png")" = 640 ] ||
+  fail "render to a symlink: the link was replaced, or the target's content or mode is wrong"
+if [ -w /dev/full ]; then
+  cases=$((cases + 1))
+  "$SDVI" render "$GOLDEN" -o /dev/full --format png --quiet 2>"$WORK/err.txt"; rc=$?
+  [ $rc -eq 1 ] && [ -c /dev/full ] || fail "render -o /dev/full: exit $rc (expected 1), $(head -1 "$WORK/err.txt")"
+fi
+
 echo "cli matrix: $cases cases, $failures failed"
 [ $failures -eq 0 ]

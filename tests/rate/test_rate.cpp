@@ -204,9 +204,7 @@ TEST_CASE("VectorizeForTarget needs exactly one valid target", "[rate]") {
   }
 }
 
-// Known failure, open: the one validation (folded_triangle) refuses a low-budget candidate of
-// the byte-target bisection; rate control must skip such candidates (see tests/rate/CMakeLists.txt).
-TEST_CASE("a byte target is met by the file, or reported as not reached", "[rate][!mayfail]") {
+TEST_CASE("a byte target is met by the file, or reported as not reached", "[rate]") {
   sdvi::Raster source;
   Sample(&source);
   sdvi::VectorizeOptions options;
