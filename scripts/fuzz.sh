@@ -52,7 +52,11 @@ for t in $TARGETS; do
   SEEDS="fuzz/corpus/$t"
   [ "$t" = svg ] && SEEDS=fuzz/svg_seeds
   # svg: fontconfig/pango keep process-lifetime caches that LeakSanitizer would report.
-  if [ "$t" = svg ]; then export LSAN_OPTIONS="suppressions=$PWD/fuzz/svg_lsan.supp"; else unset LSAN_OPTIONS; fi
+  # raster: OpenImageIO's per-thread error text (fuzz/raster_lsan.supp).
+  case "$t" in
+    svg|raster) export LSAN_OPTIONS="suppressions=$PWD/fuzz/${t}_lsan.supp" ;;
+    *) unset LSAN_OPTIONS ;;
+  esac
   LOG=/dev/stderr
   [ "${FUZZ_QUIET:-0}" = 1 ] && LOG="$FUZZ_DIR/$t.log"
   # The first directory receives new inputs; the committed seeds are read only.

@@ -536,8 +536,12 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
       SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes,
                             EncodeDracoMesh(*mesh_ids, draco::MESH_SEQUENTIAL_ENCODING,
                                             position_bits, color_bits, options.speed));
-      SDVI_ASSIGN_OR_RETURN(DecodedMesh decoded, DecodeDracoMesh(bytes, self));
-      if (!MapsBack(decoded, image, bound))
+      StatusOr<DecodedMesh> decoded = DecodeDracoMesh(bytes, self);
+      if (!decoded.ok())
+        return Status(StatusCode::kEncodeFailed,
+                      "Draco cannot decode its own encoding of the image to compress (" +
+                          decoded.status().message() + ")");
+      if (!MapsBack(*decoded, image, bound))
         return Status(StatusCode::kEncodeFailed,
                       "Draco does not reproduce the control mesh of the image to compress");
       draco_bytes = std::move(bytes);
