@@ -49,6 +49,7 @@ nlohmann::json ArtworkReportJson(const ImportSvgRequest& request, const SvgArtwo
           {"mean_error", r.mean_error},
           {"iterations", r.iterations},
           {"outline_features", result.outline_features},
+          {"detected_features", result.detected_features},
           {"feature_curves", r.feature_curves},
           {"approximate", result.approximate},
           {"object_image", result.object_image},
@@ -129,10 +130,10 @@ Status ImportSvgCommand(const ImportSvgRequest& request) {
     std::printf("%s\n", report.dump(2).c_str());
   } else if (!request.quiet) {
     const VectorizeReport& r = result.vectorized.report;
-    std::fprintf(SummaryStream(request.output), "%s: %d x %d, %u outline features, %u triangles, %u vertices, %llu bytes, PSNR %.2f dB "
+    std::fprintf(SummaryStream(request.output), "%s: %d x %d, %u outline + %u detected features, %u triangles, %u vertices, %llu bytes, PSNR %.2f dB "
                 "against librsvg%s\n",
                 request.output.c_str(), result.reference.width, result.reference.height, result.outline_features,
-                r.triangles, r.vertices, static_cast<unsigned long long>(file_size), r.psnr,
+                result.detected_features, r.triangles, r.vertices, static_cast<unsigned long long>(file_size), r.psnr,
                 result.approximate ? " (approximate)" : "");
   }
   return Status::Ok();

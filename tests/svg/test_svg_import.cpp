@@ -94,10 +94,31 @@ TEST_CASE("svg geometry: a gradient's matrix does not change the stroke width", 
       "<path d=\"M 2 2 L 10 10\" stroke=\"url(#g)\" stroke-width=\"1.5\"/></svg>");
   auto traced = sdvi::TraceSvgGeometry(doc, 48, 48);
   REQUIRE(traced.ok());
-  REQUIRE(traced->shapes.size() == 2);  // the (default black) fill, then the stroke
-  CHECK(traced->shapes[0].paint == sdvi::SvgPaint::kFill);
-  CHECK(traced->shapes[1].paint == sdvi::SvgPaint::kStroke);
-  CHECK(traced->shapes[1].stroke_width == Approx(6.0).margin(1e-4));  // 1.5 user units x 4
+  // The line has no area: the traced document does not fill it (spec/SVG.md), the stroke stays.
+  REQUIRE(traced->shapes.size() == 1);
+  CHECK(traced->shapes[0].paint == sdvi::SvgPaint::kStroke);
+  CHECK(traced->shapes[0].stroke_width == Approx(6.0).margin(1e-4));  // 1.5 user units x 4
+}
+
+TEST_CASE("svg geometry: shapes without area do not stop the trace", "[svg]") {
+  // cairo's script surface fails on the fill of an axis-aligned line (default fill black)
+  // and then refuses every later operation; the traced document leaves such shapes unfilled.
+  const sdvi::SvgDocument doc = Doc(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"40\" height=\"40\">"
+      "<line x1=\"2\" y1=\"4.5\" x2=\"38\" y2=\"4.5\" stroke=\"gray\"/>"
+      "<path d=\"M 2 8.5 h 30 h -10 z\" stroke=\"gray\"/><polyline points=\"2,12 20,12 30,12\" stroke=\"gray\"/>"
+      "<rect x=\"10\" y=\"20\" width=\"20\" height=\"10\" fill=\"red\"/></svg>");
+  CHECK_FALSE(doc.traced.empty());
+  auto traced = sdvi::TraceSvgGeometry(doc, 40, 40);
+  REQUIRE(traced.ok());
+  CHECK(traced->incomplete.empty());
+  REQUIRE(traced->shapes.size() == 4);
+  for (int k = 0; k < 3; ++k) CHECK(traced->shapes[k].paint == sdvi::SvgPaint::kStroke);
+  CHECK(traced->shapes[3].paint == sdvi::SvgPaint::kFill);
+  CHECK(traced->shapes[3].outlines[0].points[0].x == Approx(10));
+  // Shapes with area keep their fill: a curve whose control points leave the line, an arc.
+  CHECK(Doc("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"9\" height=\"9\">"
+            "<path d=\"M0 0 C 1 1 2 0 3 0\"/><path d=\"M0 0 A 2 2 0 0 1 4 0\"/></svg>").traced.empty());
 }
 
 TEST_CASE("svg raster: librsvg colours un-premultiplied, transparent background", "[svg]") {

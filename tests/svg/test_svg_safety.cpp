@@ -224,6 +224,136 @@ TEST_CASE("svg: a file over max_bytes is refused before it is read", "[svg][host
                 "max_bytes");
 }
 
+// A closed path reaching x = 1.6e49 (cairo clamps it to its fixed-point range, about 6e6 px
+// in device space), stroked, optionally dashed.
+std::string FarPath(const std::string& dash) {
+  return Svg("<path d=\"M10 10 L1.6e49 30 L30 60z\" fill=\"red\" stroke=\"black\" stroke-width=\"3\"" +
+             (dash.empty() ? std::string() : " stroke-dasharray=\"" + dash + "\"") + "/>");
+}
+
+TEST_CASE("svg: dashes over max_dashes are refused before librsvg draws them", "[svg][hostile]") {
+  // 2 x 6.25e6 px of dashed outline with a 4 px period: about 3e6 dashes.
+  const std::string bytes = FarPath("2 2");
+  SvgError error = SvgError::kNone;
+  auto document = sdvi::LoadSvg(bytes, "hostile.svg", {}, &error);
+  REQUIRE(document.ok());
+  CHECK(document->shortest_dash == 4);
+  CHECK(document->traced.find("dasharray") == std::string::npos);
+  const auto start = std::chrono::steady_clock::now();
+  Outcome o;
+  auto raster = sdvi::RenderSvg(*document, 64, 64);
+  o.status = raster.status();
+  o.error = o.status.message().find("[too_many_dashes]") != std::string::npos ? SvgError::kTooManyDashes
+                                                                               : SvgError::kNone;
+  o.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ExpectRefused(o, SvgError::kTooManyDashes, StatusCode::kLimitExceeded, "max_dashes");
+  sdvi::SvgArtworkOptions options;
+  auto artwork = sdvi::ImportSvgArtwork(*document, options, &error);
+  REQUIRE_FALSE(artwork.ok());
+  CHECK(error == SvgError::kTooManyDashes);
+  CHECK(PeakMegabytes() < 500);
+
+  // The same dashes hidden in a <style> rule with !important, and a tiny period in a
+  // style attribute: the estimate counts every stroke with the shortest dash anywhere.
+  for (const std::string& hidden :
+       {Svg("<style>path { stroke-dasharray: 0.01 !important }</style>"
+            "<path d=\"M10 10 L4e6 30\" stroke=\"black\" fill=\"none\"/>"),
+        Svg("<g style=\"stroke-dasharray:1em\"><path d=\"M10 10 L4e6 30\" stroke=\"black\"/></g>"),
+        Svg("<style>path { stroke-dash<!-- split -->arr<![CDATA[ay: 0.02 ]]>}</style>"
+            "<path d=\"M10 10 L4e6 30\" stroke=\"black\" fill=\"none\"/>")}) {
+    error = SvgError::kNone;
+    auto hidden_document = sdvi::LoadSvg(hidden, "hostile.svg", {}, &error);
+    REQUIRE(hidden_document.ok());
+    CHECK(hidden_document->shortest_dash > 0);
+    CHECK(hidden_document->traced.find("dasharray") == std::string::npos);
+    auto refused = sdvi::ImportSvgArtwork(*hidden_document, options, &error);
+    REQUIRE_FALSE(refused.ok());
+    CHECK(error == SvgError::kTooManyDashes);
+    CHECK(refused.status().message().find("hostile.svg") != std::string::npos);
+    CHECK(PeakMegabytes() < 500);
+  }
+}
+
+TEST_CASE("svg: the dash estimate counts dash lengths in user units", "[svg]") {
+  auto shortest = [](const std::string& body) {
+    auto document = sdvi::LoadSvg(Svg(body), "dash.svg", {});
+    REQUIRE(document.ok());
+    return document->shortest_dash;
+  };
+  CHECK(shortest("<path d=\"M0 0h9\" stroke=\"red\"/>") == 0);
+  CHECK(shortest("<path d=\"M0 0h9\" stroke-dasharray=\"none\"/>") == 0);
+  CHECK(shortest("<path d=\"M0 0h9\" stroke-dasharray=\"0 0\"/>") == 0);
+  CHECK(shortest("<path d=\"M0 0h9\" stroke-dasharray=\"2 4\"/>") == 6);
+  // An odd list repeats: 1 2 3 1 2 3 is three pairs of mean 4.
+  CHECK(shortest("<path d=\"M0 0h9\" style=\"stroke-dasharray: 1, 2, 3\"/>") == 4);
+  CHECK(shortest("<path d=\"M0 0h9\" stroke-dasharray=\"1in\"/>") == 192);
+  // The shortest of several, from a <style> element too; relative units count as 1/100.
+  CHECK(shortest("<style>.a{stroke-dasharray:5mm 5mm}</style><path class=\"a\" d=\"M0 0h9\" "
+                 "stroke-dasharray=\"30 30\"/>") == Approx(2 * 5 * 96 / 25.4));
+  CHECK(shortest("<path d=\"M0 0h9\" stroke-dasharray=\"10% 10%\"/>") == Approx(0.2));
+}
+
+TEST_CASE("svg: a dashed stroke within max_dashes renders dashed and traces whole", "[svg]") {
+  const std::string bytes = Svg("<path d=\"M4 32 H60\" fill=\"none\" stroke=\"black\" stroke-width=\"4\" "
+                                "stroke-dasharray=\"8 8\"/>");
+  auto document = sdvi::LoadSvg(bytes, "dash.svg", {});
+  REQUIRE(document.ok());
+  auto raster = sdvi::RenderSvg(*document, 64, 64);
+  REQUIRE(raster.ok());
+  CHECK(raster->at(8, 32, 3) == Approx(1.0f));   // in the first dash, [4, 12)
+  CHECK(raster->at(16, 32, 3) == Approx(0.0f));  // in the first gap, [12, 20)
+  auto geometry = sdvi::TraceSvgGeometry(*document, 64, 64);
+  REQUIRE(geometry.ok());
+  REQUIRE(geometry->shapes.size() == 1);
+  CHECK(geometry->shapes[0].outlines[0].points.back().x == Approx(60));
+  CHECK(geometry->dashes == Approx(56.0 / 16.0));
+}
+
+TEST_CASE("svg: an outline far outside the canvas costs what its visible part costs", "[svg][hostile]") {
+  // Without dashes the far path is valid: the samples are taken within the raster and a
+  // margin only, so the import stays small.
+  auto document = sdvi::LoadSvg(FarPath(""), "far.svg", {});
+  REQUIRE(document.ok());
+  sdvi::SvgArtworkOptions options;
+  auto result = sdvi::ImportSvgArtwork(*document, options);
+  REQUIRE(result.ok());
+  CHECK(result->outline_features > 0);
+  CHECK(PeakMegabytes() < 500);
+  // max_outline_samples bounds what is left: a limit below the visible outline is refused.
+  options.limits.max_outline_samples = 100;
+  SvgError error = SvgError::kNone;
+  auto refused = sdvi::ImportSvgArtwork(*document, options, &error);
+  REQUIRE_FALSE(refused.ok());
+  CHECK(error == SvgError::kTooManyOutlineSamples);
+  CHECK(refused.status().code() == StatusCode::kLimitExceeded);
+  CHECK(refused.status().message().find("far.svg") != std::string::npos);
+  CHECK(refused.status().message().find("max_outline_samples") != std::string::npos);
+}
+
+TEST_CASE("svg: CSS escapes, @import and stylesheets in data: URLs are refused", "[svg][hostile]") {
+  ExpectRefused(Load(Svg("<path d=\"M0 0h9\" style=\"stroke-d\\61sharray:1\"/>")), SvgError::kUnsafeCss,
+                StatusCode::kUnsupportedFormat, "CSS escape");
+  ExpectRefused(Load(Svg("<style>path{stroke-d\\61sharray:1}</style>")), SvgError::kUnsafeCss,
+                StatusCode::kUnsupportedFormat, "CSS escape");
+  ExpectRefused(Load(Svg("<style>@import url(other.css);</style>")), SvgError::kUnsafeCss,
+                StatusCode::kUnsupportedFormat, "@import");
+  ExpectRefused(Load("<?xml-stylesheet type=\"text/css\" href=\"data:text/css,path{fill:red}\"?>" + Svg("")),
+                SvgError::kUnsafeCss, StatusCode::kUnsupportedFormat, "xml-stylesheet");
+}
+
+TEST_CASE("svg: data: URLs other than raster images are refused", "[svg][hostile]") {
+  ExpectRefused(Load(Svg("<image width=\"9\" height=\"9\" href=\"data:image/svg+xml;base64,PHN2Zy8+\"/>")),
+                SvgError::kNestedDocument, StatusCode::kUnsupportedFormat, "data: URL");
+  ExpectRefused(Load(Svg("<rect width=\"9\" height=\"9\" fill=\"url(data:image/svg+xml,x#a)\"/>")),
+                SvgError::kNestedDocument, StatusCode::kUnsupportedFormat, "data: URL");
+  ExpectRefused(Load(Svg("<style>@font-face{src:url(data:font/woff,AAAA)}</style>")), SvgError::kNestedDocument,
+                StatusCode::kUnsupportedFormat, "data: URL");
+  // A PNG in a data: URL is an image librsvg decodes itself: accepted.
+  auto ok = sdvi::LoadSvg(Svg("<image width=\"9\" height=\"9\" xlink:href=\"data:image/png;base64,iVBORw0KGgo=\"/>"),
+                          "ok.svg", {});
+  CHECK(ok.ok());
+}
+
 TEST_CASE("svg: valid path data of every command passes the check", "[svg]") {
   const std::string d = "M10,10 L20 20 H30 V40 C 1 2 3 4 5 6 S 1 2 3 4 Q 1 2 3 4 T 5 6 A 5 5 30 1 0 15 15 "
                         "a5,5,0,0,1,1,1 m 1 1 l 1 1 2 2 h 1 v 1 c 1 2 3 4 5 6 s 1 2 3 4 q 1 2 3 4 t 1 1 z "
@@ -248,6 +378,9 @@ TEST_CASE("svg: the command refuses hostile files without writing output", "[svg
       {"use", Svg("<g id=\"a\"><use href=\"#a\"/></g>")},
       {"malformed", Svg("<g>")},
       {"pathdata", Svg("<path d=\"M 0 0 L\"/>")},
+      {"dashes", FarPath("2 2")},
+      {"css", Svg("<path d=\"M0 0h9\" style=\"stroke-d\\61sharray:1\"/>")},
+      {"nested", Svg("<image width=\"9\" height=\"9\" href=\"data:image/svg+xml;base64,PHN2Zy8+\"/>")},
   };
   for (const auto& [tag, bytes] : cases) {
     bool wrote = true;

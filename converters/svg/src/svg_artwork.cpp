@@ -2,11 +2,14 @@
 // The artwork mode (spec/SVG.md): exact outlines -> sharp features -> the vectorizer's mesh,
 // colour fit and refinement against librsvg's raster.
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
 #include "sdvi/bspline.h"
+#include "sdvi/features.h"
 #include "svg_internal.h"
 
 namespace sdvi {
@@ -54,9 +57,70 @@ double TurnDegrees(Point2 a, Point2 b) {
   return std::acos(c) * 180.0 / kPi;
 }
 
+// The part of the plane where samples matter: the raster grown by a margin (the probe and
+// half a stroke). Outlines may reach far outside it (coordinates up to cairo's limits).
+struct Window {
+  double x0, y0, x1, y1;
+};
+
+Window WindowOf(const Raster& r, double margin) { return {-margin, -margin, r.width + margin, r.height + margin}; }
+
+constexpr double kPieceLength = 64;  // px of control polygon: a piece sampled uniformly
+constexpr int kMaxSplits = 1100;     // halvings from 1e308 down to kPieceLength
+
+double HullLength(const Point2* q) {
+  return Norm(Sub(q[1], q[0])) + Norm(Sub(q[2], q[1])) + Norm(Sub(q[3], q[2]));
+}
+
+bool HullOutside(const Point2* q, const Window& w) {
+  double x0 = q[0].x, x1 = q[0].x, y0 = q[0].y, y1 = q[0].y;
+  for (int k = 1; k < 4; ++k) {
+    x0 = std::min(x0, q[k].x), x1 = std::max(x1, q[k].x);
+    y0 = std::min(y0, q[k].y), y1 = std::max(y1, q[k].y);
+  }
+  return x1 < w.x0 || x0 > w.x1 || y1 < w.y0 || y0 > w.y1;
+}
+
+Point2 Mid(Point2 a, Point2 b) { return {a.x / 2 + b.x / 2, a.y / 2 + b.y / 2}; }
+
+// Splits the cubic q in halves (de Casteljau) until each piece lies outside the window or
+// is at most kPieceLength long; visit(piece, inside) in order along the curve.
+template <class Visit>
+void Pieces(const Point2* q, const Window& w, Visit visit) {
+  struct Piece {
+    std::array<Point2, 4> p;
+    int depth;
+  };
+  std::vector<Piece> stack{{{q[0], q[1], q[2], q[3]}, 0}};
+  while (!stack.empty()) {
+    const Piece piece = stack.back();
+    stack.pop_back();
+    const Point2* p = piece.p.data();
+    if (HullOutside(p, w)) {
+      visit(p, false);
+      continue;
+    }
+    if (!(HullLength(p) > kPieceLength) || piece.depth >= kMaxSplits) {
+      visit(p, true);
+      continue;
+    }
+    const Point2 a = Mid(p[0], p[1]), b = Mid(p[1], p[2]), c = Mid(p[2], p[3]);
+    const Point2 ab = Mid(a, b), bc = Mid(b, c), m = Mid(ab, bc);
+    stack.push_back({{m, bc, c, p[3]}, piece.depth + 1});
+    stack.push_back({{p[0], a, ab, m}, piece.depth + 1});
+  }
+}
+
+// Samples of a piece inside the window, `spacing` apart (at least one).
+int PieceSamples(const Point2* p, double spacing) {
+  const double n = std::ceil(HullLength(p) / spacing);
+  return n >= 1 && n < 1e9 ? int(n) : 1;
+}
+
 // Samples of one outline about `spacing` apart (closed: the start is not repeated), with
 // corner flags at joints turning by more than corner_deg and normals from the samples.
-std::vector<Sample> Flatten(const SvgOutline& outline, double spacing, double corner_deg) {
+// Parts outside the window give one sample each (outside the raster: no feature there).
+std::vector<Sample> Flatten(const SvgOutline& outline, double spacing, double corner_deg, const Window& window) {
   std::vector<Sample> out;
   const size_t segments = (outline.points.size() - 1) / 3;
   std::vector<size_t> kept;  // non-degenerate segments
@@ -65,6 +129,13 @@ std::vector<Sample> Flatten(const SvgOutline& outline, double spacing, double co
     if (Norm(StartTangent(q)) > 1e-9) kept.push_back(s);
   }
   if (kept.empty()) return out;
+  auto add = [&out](const Sample& s) {
+    if (!out.empty() && Norm(Sub(s.p, out.back().p)) < 1e-6) {
+      out.back().corner = out.back().corner || s.corner;
+      return;
+    }
+    out.push_back(s);
+  };
   for (size_t k = 0; k < kept.size(); ++k) {
     const Point2* q = &outline.points[3 * kept[k]];
     bool corner = false;
@@ -72,18 +143,17 @@ std::vector<Sample> Flatten(const SvgOutline& outline, double spacing, double co
       const Point2* prev = &outline.points[3 * kept[k > 0 ? k - 1 : kept.size() - 1]];
       corner = TurnDegrees(EndTangent(prev), StartTangent(q)) > corner_deg;
     }
-    const double length = Norm(Sub(q[1], q[0])) + Norm(Sub(q[2], q[1])) + Norm(Sub(q[3], q[2]));
-    const int n = std::max(1, int(std::ceil(length / spacing)));
-    for (int i = 0; i < n; ++i) {
-      Sample s;
-      s.p = Bezier(q, double(i) / n);
-      s.corner = i == 0 && corner;
-      if (!out.empty() && Norm(Sub(s.p, out.back().p)) < 1e-6) {
-        out.back().corner = out.back().corner || s.corner;
-        continue;
+    bool first = true;
+    Pieces(q, window, [&](const Point2* p, bool inside) {
+      const int n = inside ? PieceSamples(p, spacing) : 1;
+      for (int i = 0; i < n; ++i) {
+        Sample s;
+        s.p = Bezier(p, double(i) / n);
+        s.corner = first && corner;
+        first = false;
+        add(s);
       }
-      out.push_back(s);
-    }
+    });
   }
   if (!outline.closed) {
     Sample end;
@@ -160,8 +230,14 @@ struct Side {
   double outward = 0;           // +1 / -1: the outside is along +normal / -normal; 0: either
 };
 
-std::vector<Side> SidesOf(const SvgShape& shape, const SvgOutline& outline, const SvgArtworkOptions& o) {
-  std::vector<Sample> centre = Flatten(outline, o.sample_spacing, o.corner_angle_deg);
+// The window of an outline: the raster grown by the probe, half the stroke and a pixel.
+Window OutlineWindow(const SvgShape& shape, const Raster& reference) {
+  return WindowOf(reference, kProbe + 1 + (shape.paint == SvgPaint::kStroke ? shape.stroke_width / 2 : 0));
+}
+
+std::vector<Side> SidesOf(const SvgShape& shape, const SvgOutline& outline, const Raster& reference,
+                          const SvgArtworkOptions& o) {
+  std::vector<Sample> centre = Flatten(outline, o.sample_spacing, o.corner_angle_deg, OutlineWindow(shape, reference));
   std::vector<Side> sides;
   if (centre.size() < 2) return sides;
   if (shape.paint != SvgPaint::kStroke) {
@@ -183,6 +259,22 @@ std::vector<Side> SidesOf(const SvgShape& shape, const SvgOutline& outline, cons
     sides.push_back(std::move(side));
   }
   return sides;
+}
+
+double CountOutlineSamples(const std::vector<SvgShape>& shapes, const Raster& reference, double spacing) {
+  double count = 0;
+  for (const SvgShape& shape : shapes) {
+    const Window window = OutlineWindow(shape, reference);
+    const double sides = shape.paint == SvgPaint::kStroke ? 2 : 1;
+    for (const SvgOutline& outline : shape.outlines) {
+      for (size_t k = 0; k + 3 < outline.points.size(); k += 3) {
+        Pieces(&outline.points[k], window, [&](const Point2* p, bool inside) {
+          count += sides * (inside ? std::max(1.0, std::ceil(HullLength(p) / spacing)) : 1);
+        });
+      }
+    }
+  }
+  return count;
 }
 
 double Median(std::vector<double> v) {
@@ -266,7 +358,65 @@ void CompositeOverWhite(Raster& r) {
   }
 }
 
+// Edges of the reference that no outline feature explains (text librsvg draws as glyphs
+// it does not trace, patterns, images, filters, a trace cut short): the vectorizer's edge
+// detection on the fitted raster, without the domain contours, each curve cut where it
+// comes within claim_radius px of an outline feature and the pieces of at least
+// min_length px refitted.
+std::vector<FeatureCurve> UncoveredEdges(const Raster& fitted, const std::vector<FeatureCurve>& outline_features,
+                                         const SvgArtworkOptions& o) {
+  std::vector<FeatureCurve> out;
+  StatusOr<std::vector<FeatureCurve>> detected = DetectFeatures(fitted, nullptr, o.vectorize.features);
+  if (!detected.ok()) return out;
+  const double claim_radius = 2.0;
+  ClaimMap claimed(fitted.width, fitted.height);
+  for (const FeatureCurve& c : outline_features) {
+    for (const Point2& p : SampleFeatureCurve(c, 8)) claimed.Claim(p, claim_radius);
+  }
+  BSplineFitOptions fit;
+  fit.tolerance = o.vectorize.features.fit_tolerance;
+  fit.max_spacing = o.vectorize.features.max_spacing;
+  for (const FeatureCurve& curve : *detected) {
+    if (curve.boundary) continue;
+    const std::vector<Point2> samples = SampleFeatureCurve(curve, 8);
+    std::vector<uint8_t> free(samples.size());
+    bool all = true;
+    for (size_t i = 0; i < samples.size(); ++i) {
+      free[i] = claimed.Claimed(samples[i]) ? 0 : 1;
+      all = all && free[i];
+    }
+    if (all) {
+      out.push_back(curve);
+      continue;
+    }
+    std::vector<Point2> run;
+    double length = 0;
+    for (size_t i = 0; i <= samples.size(); ++i) {
+      if (i < samples.size() && free[i]) {
+        if (!run.empty()) length += Norm(Sub(samples[i], run.back()));
+        run.push_back(samples[i]);
+        continue;
+      }
+      if (run.size() >= 2 && length >= o.min_length) {
+        FeatureCurve piece = FitChain(run, false, {}, fit);
+        if (piece.points.size() >= 2) {
+          piece.sharpness = curve.sharpness;
+          piece.contrast = curve.contrast;
+          out.push_back(std::move(piece));
+        }
+      }
+      run.clear();
+      length = 0;
+    }
+  }
+  return out;
+}
+
 }  // namespace
+
+double OutlineSampleCount(const std::vector<SvgShape>& shapes, const Raster& reference, double spacing) {
+  return CountOutlineSamples(shapes, reference, spacing);
+}
 
 std::vector<FeatureCurve> ArtworkFeatures(const std::vector<SvgShape>& shapes, const Raster& reference,
                                           const SvgArtworkOptions& o) {
@@ -277,7 +427,7 @@ std::vector<FeatureCurve> ArtworkFeatures(const std::vector<SvgShape>& shapes, c
   for (auto shape = shapes.rbegin(); shape != shapes.rend(); ++shape) {
     const bool stroke = shape->paint == SvgPaint::kStroke;
     for (const SvgOutline& outline : shape->outlines) {
-      for (const Side& side : SidesOf(*shape, outline, o)) {
+      for (const Side& side : SidesOf(*shape, outline, reference, o)) {
         const size_t n = side.samples.size();
         std::vector<double> contrast(n, -1);
         std::vector<uint8_t> accept(n, 0);
@@ -333,8 +483,21 @@ StatusOr<SvgArtworkResult> ImportSvgArtwork(const SvgDocument& document, const S
   }
   SDVI_ASSIGN_OR_RETURN(SvgSize size, ChooseSvgSize(document, options.width, options.scale, options.limits, error));
   SvgArtworkResult result;
-  SDVI_ASSIGN_OR_RETURN(result.reference, RenderSvg(document, size.width, size.height));
+  // The geometry first: its dash estimate bounds what rendering the reference costs.
   SDVI_ASSIGN_OR_RETURN(SvgGeometry geometry, TraceSvgGeometry(document, size.width, size.height));
+  SDVI_RETURN_IF_ERROR(CheckDashes(document, geometry, error));
+  SDVI_ASSIGN_OR_RETURN(result.reference, RenderSvgUnchecked(document, size.width, size.height));
+  const double samples = OutlineSampleCount(geometry.shapes, result.reference, options.sample_spacing);
+  if (!(samples <= double(options.limits.max_outline_samples))) {
+    char estimate[32];
+    std::snprintf(estimate, sizeof estimate, "%.3g", samples);
+    return SvgFailure(SvgError::kTooManyOutlineSamples, document.name,
+                      "the outlines need " + std::string(estimate) + " samples at " + std::to_string(size.width) +
+                          " x " + std::to_string(size.height) + " px, over the limit of " +
+                          std::to_string(options.limits.max_outline_samples) +
+                          " (max_outline_samples; a smaller output size needs fewer)",
+                      error);
+  }
   if (!geometry.incomplete.empty()) {
     result.warnings.push_back("approximate: librsvg stopped tracing the outlines (" + geometry.incomplete +
                               "); only the " + std::to_string(geometry.shapes.size()) +
@@ -365,7 +528,7 @@ StatusOr<SvgArtworkResult> ImportSvgArtwork(const SvgDocument& document, const S
   }
   if (white) CompositeOverWhite(ref);
   result.object_image = !opaque && !white;
-  const std::vector<FeatureCurve> curves = ArtworkFeatures(geometry.shapes, ref, options);
+  std::vector<FeatureCurve> curves = ArtworkFeatures(geometry.shapes, ref, options);
   result.outline_features = uint32_t(curves.size());
   Raster rgb;
   const Raster* fitted = &ref;
@@ -375,6 +538,11 @@ StatusOr<SvgArtworkResult> ImportSvgArtwork(const SvgDocument& document, const S
       for (int c = 0; c < 3; ++c) rgb.data[3 * i + c] = ref.data[4 * i + c];
     }
     fitted = &rgb;
+  }
+  if (options.detect_uncovered_edges) {
+    std::vector<FeatureCurve> detected = UncoveredEdges(*fitted, curves, options);
+    result.detected_features = uint32_t(detected.size());
+    curves.insert(curves.end(), std::make_move_iterator(detected.begin()), std::make_move_iterator(detected.end()));
   }
   StatusOr<VectorizeResult> vectorized = VectorizeWithFeatures(*fitted, nullptr, curves, options.vectorize);
   if (!vectorized.ok()) {

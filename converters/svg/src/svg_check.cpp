@@ -11,6 +11,9 @@
 #include <libxml/parserInternals.h>
 
 #include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <string>
@@ -96,6 +99,8 @@ Status SvgFailure(SvgError code, const std::string& name, const std::string& wha
     case SvgError::kTooManyPathCommands:
     case SvgError::kUseExpansion:
     case SvgError::kSizeTooLarge:
+    case SvgError::kTooManyDashes:
+    case SvgError::kTooManyOutlineSamples:
       status = StatusCode::kLimitExceeded;
       break;
     case SvgError::kUseCycle:
@@ -104,6 +109,8 @@ Status SvgFailure(SvgError code, const std::string& name, const std::string& wha
     case SvgError::kEntityDeclaration:
     case SvgError::kExternalEntity:
     case SvgError::kXInclude:
+    case SvgError::kUnsafeCss:
+    case SvgError::kNestedDocument:
       status = StatusCode::kUnsupportedFormat;
       break;
     case SvgError::kNoSize:
@@ -138,8 +145,175 @@ std::string_view SvgErrorName(SvgError error) {
     case SvgError::kRenderFailed: return "render_failed";
     case SvgError::kBadCurveAttribute: return "bad_curve_attribute";
     case SvgError::kNoCurves: return "no_curves";
+    case SvgError::kTooManyDashes: return "too_many_dashes";
+    case SvgError::kTooManyOutlineSamples: return "too_many_outline_samples";
+    case SvgError::kUnsafeCss: return "unsafe_css";
+    case SvgError::kNestedDocument: return "nested_document";
   }
   return "unknown";
+}
+
+namespace {
+
+// Position of the first case-insensitive occurrence of needle (lower case) at or after from.
+size_t FindNoCase(std::string_view text, std::string_view needle, size_t from = 0) {
+  if (needle.size() > text.size()) return std::string_view::npos;
+  for (size_t i = from; i + needle.size() <= text.size(); ++i) {
+    size_t k = 0;
+    while (k < needle.size() && std::tolower(static_cast<unsigned char>(text[i + k])) == needle[k]) ++k;
+    if (k == needle.size()) return i;
+  }
+  return std::string_view::npos;
+}
+
+// User units per unit of a dash length; relative units (em, ex, %, ...) count as 1/100 of
+// a user unit so that the dash estimate stays an upper bound (spec/SVG.md, "Dashes").
+double UnitFactor(std::string_view unit) {
+  std::string u;
+  for (char c : unit) u += char(std::tolower(static_cast<unsigned char>(c)));
+  if (u.empty() || u == "px") return 1;
+  if (u == "in") return 96;
+  if (u == "cm") return 96 / 2.54;
+  if (u == "mm") return 96 / 25.4;
+  if (u == "q") return 96 / 101.6;
+  if (u == "pt") return 96.0 / 72;
+  if (u == "pc") return 16;
+  return 0.01;
+}
+
+}  // namespace
+
+double MeanDashPair(std::string_view value) {
+  std::vector<double> lengths;
+  size_t i = 0;
+  while (i < value.size()) {
+    const char c = value[i];
+    const bool starts = (c >= '0' && c <= '9') || c == '.' || c == '-' || c == '+';
+    if (!starts) {
+      ++i;
+      continue;
+    }
+    size_t end = i + 1;
+    while (end < value.size() && (std::isdigit(static_cast<unsigned char>(value[end])) || value[end] == '.' ||
+                                  ((value[end] == 'e' || value[end] == 'E') && end + 1 < value.size() &&
+                                   (std::isdigit(static_cast<unsigned char>(value[end + 1])) ||
+                                    value[end + 1] == '-' || value[end + 1] == '+')) ||
+                                  ((value[end] == '-' || value[end] == '+') &&
+                                   (value[end - 1] == 'e' || value[end - 1] == 'E')))) {
+      ++end;
+    }
+    const std::string number(value.substr(i, end - i));
+    char* parsed = nullptr;
+    const double x = std::strtod(number.c_str(), &parsed);
+    size_t unit_end = end;
+    while (unit_end < value.size() && (std::isalpha(static_cast<unsigned char>(value[unit_end])) ||
+                                       value[unit_end] == '%')) {
+      ++unit_end;
+    }
+    if (parsed != number.c_str() && std::isfinite(x)) {
+      lengths.push_back(std::abs(x) * UnitFactor(value.substr(end, unit_end - end)));
+    }
+    i = std::max(unit_end, i + 1);
+  }
+  double sum = 0;
+  for (double l : lengths) sum += l;
+  if (lengths.empty() || !(sum > 0)) return 0;
+  // An odd list repeats once: n dashes and n gaps either way; the mean pair is 2 sum / n.
+  return 2 * sum / double(lengths.size());
+}
+
+void RemoveDashes(xmlDocPtr doc) {
+  auto rename = [](std::string text) {
+    for (size_t at = FindNoCase(text, "dasharray"); at != std::string::npos; at = FindNoCase(text, "dasharray", at)) {
+      text[at + 8] = 'x';  // stroke-dasharrax: an unknown property, ignored
+    }
+    return text;
+  };
+  std::vector<xmlNodePtr> stack{xmlDocGetRootElement(doc)};
+  while (!stack.empty()) {
+    xmlNodePtr node = stack.back();
+    stack.pop_back();
+    if (node == nullptr || node->type != XML_ELEMENT_NODE) continue;
+    for (xmlAttrPtr a = node->properties; a != nullptr;) {
+      xmlAttrPtr next = a->next;
+      const std::string name = Str(a->name);
+      if (FindNoCase(name, "dasharray") != std::string::npos) {
+        xmlRemoveProp(a);
+      } else if (name == "style") {
+        xmlChar* v = xmlNodeListGetString(doc, a->children, 1);
+        const std::string renamed = rename(Str(v));
+        xmlFree(v);
+        xmlSetNsProp(node, a->ns, a->name, reinterpret_cast<const xmlChar*>(renamed.c_str()));
+      }
+      a = next;
+    }
+    // A <style>'s text is the concatenation of its text and CDATA children (a property name
+    // may be split by a comment or a CDATA section): renamed as a whole, kept in the first.
+    const bool style = Str(node->name) == "style";
+    std::string text;
+    xmlNodePtr first_text = nullptr;
+    for (xmlNodePtr c = node->children; c != nullptr; c = c->next) {
+      if (c->type == XML_ELEMENT_NODE) {
+        stack.push_back(c);
+      } else if (style && (c->type == XML_TEXT_NODE || c->type == XML_CDATA_SECTION_NODE)) {
+        text += Str(c->content);
+        if (first_text == nullptr) first_text = c;
+        xmlNodeSetContent(c, reinterpret_cast<const xmlChar*>(""));
+      }
+    }
+    if (first_text != nullptr) {
+      const std::string renamed = rename(text);
+      xmlNodeSetContentLen(first_text, reinterpret_cast<const xmlChar*>(renamed.data()), int(renamed.size()));
+    }
+  }
+}
+
+namespace {
+
+// cairo's script surface fails on the fill of an axis-aligned path without area (and then
+// refuses everything after it), so the traced document fills no shape without area.
+void UnfillFlatShapes(xmlNodePtr root) {
+  std::vector<xmlNodePtr> stack{root};
+  while (!stack.empty()) {
+    xmlNodePtr node = stack.back();
+    stack.pop_back();
+    if (node == nullptr || node->type != XML_ELEMENT_NODE) continue;
+    for (xmlNodePtr c = node->children; c != nullptr; c = c->next) {
+      if (c->type == XML_ELEMENT_NODE) stack.push_back(c);
+    }
+    const std::string name = Str(node->name);
+    bool flat = name == "line";
+    if (name == "path" || name == "polyline" || name == "polygon") {
+      xmlChar* v = xmlGetProp(node, reinterpret_cast<const xmlChar*>(name == "path" ? "d" : "points"));
+      if (v != nullptr) {
+        flat = name == "path" ? PathIsFlat(Str(v)) : PointsAreFlat(Str(v));
+        xmlFree(v);
+      }
+    }
+    if (!flat) continue;
+    xmlChar* style = xmlGetProp(node, reinterpret_cast<const xmlChar*>("style"));
+    const std::string unfilled = Str(style) + ";fill:none !important";
+    if (style != nullptr) xmlFree(style);
+    xmlSetProp(node, reinterpret_cast<const xmlChar*>("style"), reinterpret_cast<const xmlChar*>(unfilled.c_str()));
+  }
+}
+
+}  // namespace
+
+std::string TracedDocument(const std::string& bytes) {
+  xmlDocPtr doc = xmlReadMemory(bytes.data(), int(bytes.size()), nullptr, nullptr,
+                                XML_PARSE_NONET | XML_PARSE_NOWARNING | XML_PARSE_NOERROR | XML_PARSE_HUGE);
+  if (doc == nullptr) return std::string();
+  RemoveDashes(doc);
+  UnfillFlatShapes(xmlDocGetRootElement(doc));
+  xmlChar* dumped = nullptr;
+  int size = 0;
+  xmlDocDumpMemory(doc, &dumped, &size);
+  xmlFreeDoc(doc);
+  if (dumped == nullptr) return std::string();
+  std::string out(reinterpret_cast<const char*>(dumped), size_t(size));
+  xmlFree(dumped);
+  return out;
 }
 
 namespace {
@@ -159,6 +333,8 @@ struct CheckState {
   std::unordered_map<std::string, int> ids;
   size_t path_commands = 0;
   bool saw_root = false;
+  bool in_style = false;   // inside a <style> element
+  std::string style_text;  // its text so far
 
   int Line() const { return parser != nullptr ? xmlSAX2GetLineNumber(parser) : 0; }
   void Fail(SvgError code, const std::string& message) {
@@ -170,6 +346,61 @@ struct CheckState {
 };
 
 CheckState* StateOf(void* ctx) { return static_cast<CheckState*>(ctx); }
+
+// CSS (a style attribute or a <style> element): escapes and @import are refused, since they
+// could hide a property or a resource from these checks; every stroke-dasharray is noted.
+void CheckCss(CheckState* st, std::string_view css, const std::string& where) {
+  if (css.find('\\') != std::string_view::npos) {
+    return st->Fail(SvgError::kUnsafeCss, where + ": a CSS escape (backslash); CSS escapes are not accepted");
+  }
+  if (FindNoCase(css, "@import") != std::string_view::npos) {
+    return st->Fail(SvgError::kUnsafeCss, where + ": CSS @import is not accepted");
+  }
+  // The value runs to the next ';', '}' or '!' (comments and all: numbers in them only make
+  // the estimate more cautious).
+  for (size_t at = FindNoCase(css, "dasharray"); at != std::string_view::npos;
+       at = FindNoCase(css, "dasharray", at + 1)) {
+    const size_t end = css.find_first_of(";}!", at + 9);
+    const double pair = MeanDashPair(css.substr(at + 9, end == std::string_view::npos ? end : end - at - 9));
+    if (pair > 0 && (st->check->shortest_dash == 0 || pair < st->check->shortest_dash)) {
+      st->check->shortest_dash = pair;
+    }
+  }
+}
+
+// A data: URL may only be an href to a PNG, JPEG, GIF or WebP image: any other (an SVG
+// document, a stylesheet, a font) would be loaded by librsvg without these checks.
+bool AllowedDataUrl(const std::string& attr, std::string_view value) {
+  size_t b = 0;
+  while (b < value.size() && (value[b] == ' ' || value[b] == '\t' || value[b] == '\n' || value[b] == '\r')) ++b;
+  if (attr != "href" || FindNoCase(value, "data:") != b) return false;
+  for (const char* type : {"image/png", "image/jpeg", "image/jpg", "image/gif", "image/webp"}) {
+    const std::string_view t(type);
+    const size_t at = b + 5;
+    if (FindNoCase(value.substr(at, t.size()), t) == 0 && at + t.size() < value.size() &&
+        (value[at + t.size()] == ';' || value[at + t.size()] == ',')) {
+      // One data: URL only.
+      return FindNoCase(value, "data:", at) == std::string_view::npos;
+    }
+  }
+  return false;
+}
+
+void OnCharacters(void* ctx, const xmlChar* text, int length) {
+  CheckState* st = StateOf(ctx);
+  if (st->in_style && st->error == SvgError::kNone) st->style_text.append(reinterpret_cast<const char*>(text), size_t(length));
+}
+
+void OnProcessingInstruction(void* ctx, const xmlChar* target, const xmlChar* data) {
+  CheckState* st = StateOf(ctx);
+  if (Str(target) != "xml-stylesheet") return;
+  if (FindNoCase(Str(data), "data:") != std::string::npos) {
+    return st->Fail(SvgError::kUnsafeCss, "line " + std::to_string(st->Line()) +
+                                              ": an xml-stylesheet with a data: URL is not accepted");
+  }
+  st->check->warnings.push_back("line " + std::to_string(st->Line()) +
+                                ": the xml-stylesheet is not loaded (no external files)");
+}
 
 void OnEntityDecl(void* ctx, const xmlChar*, int type, const xmlChar*, const xmlChar*, xmlChar*) {
   CheckState* st = StateOf(ctx);
@@ -234,6 +465,7 @@ void OnStartElement(void* ctx, const xmlChar* localname, const xmlChar*, const x
   Node node;
   node.parent = st->open.empty() ? -1 : st->open.back();
   const int index = int(st->nodes.size());
+  if (local == "line") st->check->flat_shapes = true;
   if (IsApproximated(local)) st->check->unsupported.push_back(local + " (line " + std::to_string(line) + ")");
   size_t commands = 0;
   for (int a = 0; a < nb_attributes; ++a) {
@@ -241,6 +473,21 @@ void OnStartElement(void* ctx, const xmlChar* localname, const xmlChar*, const x
     const std::string attr = Str(at[0]);
     const std::string value(reinterpret_cast<const char*>(at[3]), size_t(at[4] - at[3]));
     std::string bad;
+    if (FindNoCase(value, "data:") != std::string::npos && !AllowedDataUrl(attr, value)) {
+      return st->Fail(SvgError::kNestedDocument,
+                      "line " + std::to_string(line) + ": <" + local + "> " + attr +
+                          " holds a data: URL that is not a PNG, JPEG, GIF or WebP image; other embedded "
+                          "documents are not accepted");
+    }
+    if (attr == "style") {
+      CheckCss(st, value, "line " + std::to_string(line));
+      if (st->error != SvgError::kNone) return;
+    } else if (FindNoCase(attr, "dasharray") != std::string::npos) {
+      const double pair = MeanDashPair(value);
+      if (pair > 0 && (st->check->shortest_dash == 0 || pair < st->check->shortest_dash)) {
+        st->check->shortest_dash = pair;
+      }
+    }
     if (attr == "id") {
       st->ids.emplace(value, index);
     } else if (attr == "href") {
@@ -254,10 +501,12 @@ void OnStartElement(void* ctx, const xmlChar* localname, const xmlChar*, const x
       if (!CountPathCommands(value, &commands, &bad, limits.max_path_commands)) {
         return st->Fail(SvgError::kBadPathData, "line " + std::to_string(line) + ": bad path data: " + bad);
       }
+      if (!st->check->flat_shapes && commands <= limits.max_path_commands) st->check->flat_shapes = PathIsFlat(value);
     } else if (attr == "points" && (local == "polyline" || local == "polygon")) {
       if (!CountPolylinePoints(value, &commands, &bad)) {
         return st->Fail(SvgError::kBadPathData, "line " + std::to_string(line) + ": bad points: " + bad);
       }
+      if (!st->check->flat_shapes) st->check->flat_shapes = PointsAreFlat(value);
     }
   }
   st->path_commands += commands;
@@ -268,11 +517,23 @@ void OnStartElement(void* ctx, const xmlChar* localname, const xmlChar*, const x
   }
   st->nodes.push_back(std::move(node));
   st->open.push_back(index);
+  if (local == "style") {
+    st->in_style = true;
+    st->style_text.clear();
+  }
 }
 
-void OnEndElement(void* ctx, const xmlChar*, const xmlChar*, const xmlChar*) {
+void OnEndElement(void* ctx, const xmlChar* localname, const xmlChar*, const xmlChar*) {
   CheckState* st = StateOf(ctx);
   if (!st->open.empty()) st->open.pop_back();
+  if (st->in_style && Str(localname) == "style") {
+    st->in_style = false;
+    if (st->error == SvgError::kNone) CheckCss(st, st->style_text, "line " + std::to_string(st->Line()) + ": <style>");
+    if (st->error == SvgError::kNone && FindNoCase(st->style_text, "data:") != std::string::npos) {
+      st->Fail(SvgError::kNestedDocument, "line " + std::to_string(st->Line()) +
+                                              ": <style> holds a data: URL; embedded documents are not accepted");
+    }
+  }
 }
 
 }  // namespace
@@ -302,6 +563,9 @@ Status CheckSvg(const std::string& bytes, const std::string& name, const SvgLimi
   sax.reference = OnReference;
   sax.getEntity = OnGetEntity;
   sax.serror = OnError;
+  sax.characters = OnCharacters;
+  sax.cdataBlock = OnCharacters;
+  sax.processingInstruction = OnProcessingInstruction;
   xmlSAXHandlerPtr original = parser->sax;
   parser->sax = &sax;
   CheckState st;
@@ -316,6 +580,11 @@ Status CheckSvg(const std::string& bytes, const std::string& name, const SvgLimi
   const bool well_formed = parser->wellFormed != 0;
   parser->sax = original;
   parser->userData = nullptr;
+  // libxml2 may build a document to hold a DOCTYPE's declarations even for a SAX parse.
+  if (parser->myDoc != nullptr) {
+    xmlFreeDoc(parser->myDoc);
+    parser->myDoc = nullptr;
+  }
   xmlFreeParserCtxt(parser);
 
   if (st.error != SvgError::kNone) return fail(st.error, st.what);

@@ -245,6 +245,7 @@ StatusOr<SvgCurvesResult> ImportSvgCurves(const SvgDocument& document, const Svg
   xmlDocPtr doc = xmlReadMemory(document.bytes.data(), int(document.bytes.size()), nullptr, nullptr,
                                 XML_PARSE_NONET | XML_PARSE_NOWARNING | XML_PARSE_NOERROR | XML_PARSE_HUGE);
   if (doc == nullptr) return SvgFailure(SvgError::kMalformedXml, document.name, "libxml2 cannot read it", error);
+  RemoveDashes(doc);  // curves are traced without dashes (spec/SVG.md, "Dashes")
   Collector collector;
   CollectIds(xmlDocGetRootElement(doc), &collector.ids);
   collector.Visit(reinterpret_cast<xmlNodePtr>(doc));
@@ -259,6 +260,8 @@ StatusOr<SvgCurvesResult> ImportSvgCurves(const SvgDocument& document, const Svg
   if (dumped == nullptr) return Status(StatusCode::kInternal, document.name + ": cannot serialise the tree");
   SvgDocument marked = document;
   marked.bytes.assign(reinterpret_cast<const char*>(dumped), size_t(dumped_size));
+  marked.traced.clear();
+  marked.shortest_dash = 0;
   xmlFree(dumped);
   if (collector.curves.empty()) {
     return SvgFailure(SvgError::kNoCurves, document.name,

@@ -5,6 +5,7 @@
 #include <cairo.h>
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <memory>
 #include <string>
@@ -14,11 +15,12 @@
 
 namespace sdvi {
 
-StatusOr<RsvgHandlePtr> OpenRsvg(const SvgDocument& document, SvgError* error) {
+StatusOr<RsvgHandlePtr> OpenRsvg(const SvgDocument& document, SvgError* error, bool traced) {
   GError* gerror = nullptr;
+  const std::string& bytes = traced && !document.traced.empty() ? document.traced : document.bytes;
   // From memory, no base file: librsvg cannot resolve any external reference.
-  RsvgHandle* handle = rsvg_handle_new_from_data(reinterpret_cast<const guint8*>(document.bytes.data()),
-                                                 gsize(document.bytes.size()), &gerror);
+  RsvgHandle* handle = rsvg_handle_new_from_data(reinterpret_cast<const guint8*>(bytes.data()),
+                                                 gsize(bytes.size()), &gerror);
   if (handle == nullptr) {
     std::string what = gerror != nullptr ? gerror->message : "unknown error";
     if (gerror != nullptr) g_error_free(gerror);
@@ -28,8 +30,9 @@ StatusOr<RsvgHandlePtr> OpenRsvg(const SvgDocument& document, SvgError* error) {
   return RsvgHandlePtr(handle);
 }
 
-Status RenderWithRsvg(const SvgDocument& document, cairo_t* cr, int width, int height, SvgError* error) {
-  SDVI_ASSIGN_OR_RETURN(RsvgHandlePtr handle, OpenRsvg(document, error));
+Status RenderWithRsvg(const SvgDocument& document, cairo_t* cr, int width, int height, SvgError* error,
+                      bool traced) {
+  SDVI_ASSIGN_OR_RETURN(RsvgHandlePtr handle, OpenRsvg(document, error, traced));
   RsvgRectangle viewport{0, 0, double(width), double(height)};
   GError* gerror = nullptr;
   if (!rsvg_handle_render_document(handle.get(), cr, &viewport, &gerror)) {
@@ -50,7 +53,15 @@ StatusOr<SvgDocument> LoadSvg(std::string bytes, const std::string& name, const 
   document.elements = check.elements;
   document.unsupported = std::move(check.unsupported);
   document.warnings = std::move(check.warnings);
-  SDVI_ASSIGN_OR_RETURN(RsvgHandlePtr handle, OpenRsvg(document, error));
+  document.limits = limits;
+  document.shortest_dash = check.shortest_dash;
+  if (document.shortest_dash > 0 || check.flat_shapes) {
+    document.traced = TracedDocument(document.bytes);
+    if (document.traced.empty()) {
+      return SvgFailure(SvgError::kMalformedXml, name, "libxml2 cannot rewrite the document for tracing", error);
+    }
+  }
+  SDVI_ASSIGN_OR_RETURN(RsvgHandlePtr handle, OpenRsvg(document, error, true));
   gdouble w = 0, h = 0;
   if (rsvg_handle_get_intrinsic_size_in_pixels(handle.get(), &w, &h)) {
     document.width = w;
@@ -70,6 +81,18 @@ StatusOr<SvgDocument> LoadSvg(std::string bytes, const std::string& name, const 
     document.width = document.height = 0;
   }
   return document;
+}
+
+Status CheckDashes(const SvgDocument& document, const SvgGeometry& geometry, SvgError* error) {
+  if (!(geometry.dashes <= double(document.limits.max_dashes))) {
+    char estimate[32];
+    std::snprintf(estimate, sizeof estimate, "%.3g", geometry.dashes);
+    return SvgFailure(SvgError::kTooManyDashes, document.name,
+                      "the dashed strokes would draw about " + std::string(estimate) + " dashes, over the limit of " +
+                          std::to_string(document.limits.max_dashes) + " (max_dashes)",
+                      error);
+  }
+  return Status::Ok();
 }
 
 StatusOr<SvgDocument> LoadSvgFile(const std::string& path, const SvgLimits& limits, SvgError* error) {
@@ -126,6 +149,15 @@ StatusOr<Raster> RenderSvg(const SvgDocument& document, int width, int height) {
   if (width <= 0 || height <= 0) {
     return Status(StatusCode::kInvalidArgument, document.name + ": render size must be positive");
   }
+  if (document.shortest_dash > 0) {
+    // cairo materialises every dash (also for the extents librsvg asks for): bound them first.
+    SDVI_ASSIGN_OR_RETURN(SvgGeometry geometry, TraceSvgGeometry(document, width, height));
+    SDVI_RETURN_IF_ERROR(CheckDashes(document, geometry, nullptr));
+  }
+  return RenderSvgUnchecked(document, width, height);
+}
+
+StatusOr<Raster> RenderSvgUnchecked(const SvgDocument& document, int width, int height) {
   cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, width, height);
   std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> surface_owner(surface, cairo_surface_destroy);
   if (cairo_surface_status(surface) != CAIRO_STATUS_SUCCESS) {

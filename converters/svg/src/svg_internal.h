@@ -3,9 +3,13 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "sdvi/svg.h"
+
+struct _xmlDoc;
+typedef struct _xmlDoc xmlDoc;
 
 namespace sdvi {
 
@@ -13,7 +17,27 @@ struct SvgCheck {
   size_t elements = 0;
   std::vector<std::string> unsupported;  // approximated elements, with their lines
   std::vector<std::string> warnings;     // references that are not loaded
+  double shortest_dash = 0;              // SvgDocument::shortest_dash
+  bool flat_shapes = false;              // a line, or a path/polyline/polygon without area
 };
+
+// The mean dash + gap length of a stroke-dasharray value in user units (relative units
+// count as 1/100 of a unit); 0 when the value draws no dashes.
+double MeanDashPair(std::string_view value);
+
+// Renames or removes every stroke-dasharray of a tree (attributes, style attributes,
+// <style> text): librsvg then draws no dashes.
+void RemoveDashes(xmlDoc* doc);
+
+// SvgDocument::traced: the document after RemoveDashes, with every shape without area (line,
+// and path, polyline, polygon whose points are collinear) unfilled by an inline
+// "fill:none !important", serialised by libxml2; empty if it cannot be read.
+std::string TracedDocument(const std::string& bytes);
+
+// True when every point of path data d (ends and controls) or of a points list lies on
+// one straight line: the shape has no area. Arcs with both radii count as area.
+bool PathIsFlat(const std::string& d);
+bool PointsAreFlat(const std::string& points);
 
 // The Status for a refused SVG: the StatusCode that goes with code, a message naming the
 // input and the rule, "[svg error name]" at its end; sets *out when non-null.
@@ -28,6 +52,16 @@ Status CheckSvg(const std::string& bytes, const std::string& name, const SvgLimi
 // repetition counts as one more) to *count. On a syntax error returns false with *what
 // describing it. Stops early (true) once *count exceeds cap.
 bool CountPathCommands(const std::string& d, size_t* count, std::string* what, size_t cap);
+
+// kTooManyDashes when geometry.dashes exceeds document.limits.max_dashes.
+Status CheckDashes(const SvgDocument& document, const SvgGeometry& geometry, SvgError* error);
+
+// RenderSvg without the dash check (the caller has made it).
+StatusOr<Raster> RenderSvgUnchecked(const SvgDocument& document, int width, int height);
+
+// The samples ArtworkFeatures takes on shapes at reference's size (a stroke outline counts
+// twice), counted without making them; ImportSvgArtwork checks it against max_outline_samples.
+double OutlineSampleCount(const std::vector<SvgShape>& shapes, const Raster& reference, double spacing);
 
 // The painted shapes in a cairo script (svg_trace.cpp has the grammar it reads).
 std::vector<SvgShape> ReadCairoScript(const std::string& script);

@@ -1,10 +1,14 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Syntax check and command count of SVG path data (SVG 1.1 section 8.3.9 grammar). The
 // geometry itself is librsvg's; this pass only refuses malformed data and counts segments
-// for SvgLimits::max_path_commands before librsvg parses anything.
+// for SvgLimits::max_path_commands before librsvg parses anything. PathIsFlat evaluates
+// the points to find shapes without area (spec/SVG.md, "The traced document").
 #include <cctype>
+#include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include "svg_internal.h"
 
@@ -50,6 +54,13 @@ class Scanner {
     i_ = j;
     return true;
   }
+  // Number() with its value.
+  bool Value(double* v) {
+    const size_t start = i_;
+    if (!Number()) return false;
+    *v = std::strtod(s_.substr(start, i_ - start).c_str(), nullptr);
+    return true;
+  }
   bool Flag() {
     if (i_ < s_.size() && (s_[i_] == '0' || s_[i_] == '1')) {
       ++i_;
@@ -79,7 +90,107 @@ std::string Near(const std::string& s, size_t at) {
   return "at character " + std::to_string(at) + " (\"" + s.substr(at, 16) + "\")";
 }
 
+// True when every point lies on one straight line (so does anything drawn between them).
+bool Collinear(const std::vector<double>& xy) {
+  const size_t n = xy.size() / 2;
+  size_t far = 0;
+  double far_d = 0;
+  for (size_t k = 1; k < n; ++k) {
+    const double d = std::hypot(xy[2 * k] - xy[0], xy[2 * k + 1] - xy[1]);
+    if (d > far_d) far_d = d, far = k;
+  }
+  if (!(far_d > 0)) return std::isfinite(far_d);
+  const double ux = (xy[2 * far] - xy[0]) / far_d, uy = (xy[2 * far + 1] - xy[1]) / far_d;
+  for (size_t k = 1; k < n; ++k) {
+    const double off = (xy[2 * k] - xy[0]) * uy - (xy[2 * k + 1] - xy[1]) * ux;
+    if (!(std::abs(off) <= 1e-9 * far_d)) return false;
+  }
+  return true;
+}
+
 }  // namespace
+
+bool PathIsFlat(const std::string& d) {
+  Scanner in(d);
+  std::vector<double> xy;  // every end and control point, absolute
+  double x = 0, y = 0, sx = 0, sy = 0;
+  auto add = [&xy](double px, double py) { xy.push_back(px), xy.push_back(py); };
+  in.SkipSeparators();
+  while (!in.AtEnd()) {
+    const char command = in.Peek();
+    const int args = ArgumentCount(command);
+    if (args < 0) return false;
+    in.Advance();
+    in.SkipSeparators();
+    const bool rel = std::islower(static_cast<unsigned char>(command)) != 0;
+    const char upper = char(std::toupper(static_cast<unsigned char>(command)));
+    if (args == 0) {
+      x = sx, y = sy;
+      continue;
+    }
+    bool first = true;
+    while (in.StartsNumber()) {
+      double a[7];
+      for (int k = 0; k < args; ++k) {
+        const bool is_flag = upper == 'A' && (k == 3 || k == 4);
+        if (is_flag) {
+          if (in.AtEnd()) return false;
+          a[k] = in.Peek() == '1' ? 1 : 0;
+          if (!in.Flag()) return false;
+        } else if (!in.Value(&a[k])) {
+          return false;
+        }
+        in.SkipSeparators();
+      }
+      const double ox = rel ? x : 0, oy = rel ? y : 0;
+      switch (upper) {
+        case 'M':
+          x = a[0] + ox, y = a[1] + oy;
+          if (first) sx = x, sy = y;
+          break;
+        case 'L': case 'T':
+          x = a[0] + ox, y = a[1] + oy;
+          break;
+        case 'H':
+          x = a[0] + ox;
+          break;
+        case 'V':
+          y = a[0] + oy;
+          break;
+        case 'C':
+          add(a[0] + ox, a[1] + oy), add(a[2] + ox, a[3] + oy);
+          x = a[4] + ox, y = a[5] + oy;
+          break;
+        case 'S': case 'Q':
+          add(a[0] + ox, a[1] + oy);
+          x = a[2] + ox, y = a[3] + oy;
+          break;
+        case 'A':
+          // An arc with both radii has area (a reflected control point of S or T lies on
+          // the line through the points already seen, so it needs no entry of its own).
+          if (a[0] != 0 && a[1] != 0 && (a[5] + ox != x || a[6] + oy != y)) return false;
+          x = a[5] + ox, y = a[6] + oy;
+          break;
+      }
+      add(x, y);
+      first = false;
+    }
+  }
+  return Collinear(xy);
+}
+
+bool PointsAreFlat(const std::string& points) {
+  Scanner in(points);
+  std::vector<double> xy;
+  in.SkipSeparators();
+  double v = 0;
+  while (!in.AtEnd() && in.Value(&v)) {
+    xy.push_back(v);
+    in.SkipSeparators();
+  }
+  if (xy.size() % 2 != 0) xy.pop_back();
+  return Collinear(xy);
+}
 
 bool CountPathCommands(const std::string& d, size_t* count, std::string* what, size_t cap) {
   Scanner in(d);

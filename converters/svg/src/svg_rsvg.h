@@ -17,10 +17,12 @@ struct RsvgHandleDeleter {
 };
 using RsvgHandlePtr = std::unique_ptr<RsvgHandle, RsvgHandleDeleter>;
 
-// librsvg's handle for document, from memory with no base file, 96 dpi.
-StatusOr<RsvgHandlePtr> OpenRsvg(const SvgDocument& document, SvgError* error);
+// librsvg's handle for document, from memory with no base file, 96 dpi; traced: from
+// document.traced when there is one.
+StatusOr<RsvgHandlePtr> OpenRsvg(const SvgDocument& document, SvgError* error, bool traced = false);
 
-// Renders document into cr at the viewport (0, 0, width, height).
-Status RenderWithRsvg(const SvgDocument& document, cairo_t* cr, int width, int height, SvgError* error);
+// Renders document (traced: document.traced when there is one) into cr at the viewport (0, 0, width, height).
+Status RenderWithRsvg(const SvgDocument& document, cairo_t* cr, int width, int height, SvgError* error,
+                      bool traced = false);
 
 }  // namespace sdvi

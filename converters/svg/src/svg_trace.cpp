@@ -140,7 +140,8 @@ class ScriptReader {
     SvgShape shape;
     shape.paint = paint;
     const GraphicsState& g = states_.back();
-    shape.stroke_width = paint == SvgPaint::kStroke ? g.line_width * std::sqrt(g.det) : 0;
+    shape.scale = std::sqrt(g.det);
+    shape.stroke_width = paint == SvgPaint::kStroke ? g.line_width * shape.scale : 0;
     for (const SvgOutline& o : path_) {
       if (o.points.size() >= 4) shape.outlines.push_back(o);
     }
@@ -246,7 +247,7 @@ StatusOr<SvgGeometry> TraceSvgGeometry(const SvgDocument& document, int width, i
   cairo_script_set_mode(device, CAIRO_SCRIPT_MODE_ASCII);
   cairo_surface_t* surface = cairo_script_surface_create(device, CAIRO_CONTENT_COLOR_ALPHA, width, height);
   cairo_t* cr = cairo_create(surface);
-  Status rendered = RenderWithRsvg(document, cr, width, height, nullptr);
+  Status rendered = RenderWithRsvg(document, cr, width, height, nullptr, /*traced=*/true);
   cairo_destroy(cr);
   cairo_surface_finish(surface);
   cairo_surface_destroy(surface);
@@ -255,6 +256,20 @@ StatusOr<SvgGeometry> TraceSvgGeometry(const SvgDocument& document, int width, i
   SvgGeometry geometry;
   geometry.shapes = ReadCairoScript(script);
   if (!rendered.ok()) geometry.incomplete = rendered.message();
+  if (document.shortest_dash > 0) {
+    // Upper estimate: every stroke dashed with the shortest dash; the control polygon is at
+    // least as long as the curve.
+    for (const SvgShape& shape : geometry.shapes) {
+      if (shape.paint != SvgPaint::kStroke) continue;
+      double length = 0;
+      for (const SvgOutline& o : shape.outlines) {
+        for (size_t k = 1; k < o.points.size(); ++k) {
+          length += std::hypot(o.points[k].x - o.points[k - 1].x, o.points[k].y - o.points[k - 1].y);
+        }
+      }
+      if (length > 0) geometry.dashes += length / (document.shortest_dash * shape.scale);
+    }
+  }
   return geometry;
 }
 

@@ -48,6 +48,11 @@ enum class SvgError : int {
   kRenderFailed,         // librsvg refused to load or render the document (kDecodeFailed)
   kBadCurveAttribute,    // curves mode: a malformed sdvi: attribute (kInvalidArgument)
   kNoCurves,             // curves mode: no element carries sdvi colours (kEmptyInput)
+  kTooManyDashes,        // dashes librsvg would draw over max_dashes (kLimitExceeded)
+  kTooManyOutlineSamples,  // artwork outline samples over max_outline_samples (kLimitExceeded)
+  kUnsafeCss,            // a CSS escape, @import, or an xml-stylesheet with a data: URL (kUnsupportedFormat)
+  kNestedDocument,       // a data: URL that is not a PNG/JPEG/GIF/WebP raster, e.g. an SVG inside
+                         // the SVG that would escape these checks (kUnsupportedFormat)
 };
 
 // Stable lower_snake name, e.g. "too_many_elements".
@@ -62,6 +67,11 @@ struct SvgLimits {
   size_t max_use_expansion = 200000;        // elements drawn after expanding <use>
   int max_dimension = 16384;                // output raster width or height, px
   uint64_t max_pixels = uint64_t(64) << 20; // output raster width x height
+  // Dashes librsvg would draw, all dashed strokes together at the output size (an upper
+  // estimate: every stroke's device length over the shortest dash found, spec/SVG.md).
+  uint64_t max_dashes = 1000000;
+  // Artwork mode: outline samples (sample_spacing apart, within the raster and a margin).
+  uint64_t max_outline_samples = 4000000;
 };
 
 // A checked document, ready for librsvg.
@@ -74,6 +84,13 @@ struct SvgDocument {
   // them; their colours are fitted like a raster): "text (line 12)", "filter (line 30)".
   std::vector<std::string> unsupported;
   std::vector<std::string> warnings;  // references to other files, which are not loaded
+  SvgLimits limits;              // the limits it was loaded with (rendering enforces max_dashes)
+  // Dashes (spec/SVG.md, "Dashes"): the shortest mean dash + gap of any stroke-dasharray in
+  // the document, in user units (0: the document has none).
+  double shortest_dash = 0;
+  // The document the geometry is traced from (spec/SVG.md, "The traced document"): every
+  // stroke-dasharray renamed, shapes without area unfilled; empty: the document itself.
+  std::string traced;
 };
 
 // Checks bytes against limits and the safety rules (header comment), then loads them with
@@ -95,7 +112,8 @@ StatusOr<SvgSize> ChooseSvgSize(const SvgDocument& document, int width, double s
 
 // librsvg's rendering of the document into width x height (viewBox and
 // preserveAspectRatio applied to that viewport): RGBA, colours 0..255 not premultiplied,
-// alpha 0..1. This is the reference the artwork mode fits.
+// alpha 0..1. This is the reference the artwork mode fits. A dashed document is traced
+// first: kTooManyDashes when its dash estimate exceeds document.limits.max_dashes.
 StatusOr<Raster> RenderSvg(const SvgDocument& document, int width, int height);
 
 // One subpath as painted, in output pixels: points[0] is the start, then three points
@@ -113,6 +131,7 @@ enum class SvgPaint { kFill, kStroke, kClip };
 struct SvgShape {
   SvgPaint paint = SvgPaint::kFill;
   double stroke_width = 0;
+  double scale = 1;  // output pixels per user unit where it was painted (sqrt |det| of the CTM)
   std::vector<SvgOutline> outlines;
 };
 
@@ -120,9 +139,12 @@ struct SvgShape {
 // When librsvg stops with an error while drawing into the script surface (it can refuse a
 // path there that it draws into an image), the shapes traced before the error are kept and
 // `incomplete` holds librsvg's message.
+// Dashes are not applied (a dashed stroke is traced whole, from document.traced);
+// `dashes` is the estimate RenderSvg checks against max_dashes.
 struct SvgGeometry {
   std::vector<SvgShape> shapes;
   std::string incomplete;
+  double dashes = 0;
 };
 StatusOr<SvgGeometry> TraceSvgGeometry(const SvgDocument& document, int width, int height);
 
@@ -147,6 +169,9 @@ struct SvgArtworkOptions {
                                   // either side, that makes it a feature
   double min_length = 4;          // px: shorter feature runs are dropped
   double sample_spacing = 0.5;    // px between outline samples
+  // Edges of the reference that no outline feature explains (text, patterns, images,
+  // filters) are detected as in a raster (vectorize.features) and added (spec/SVG.md).
+  bool detect_uncovered_edges = true;
 };
 
 struct SvgArtworkResult {
@@ -156,6 +181,7 @@ struct SvgArtworkResult {
   bool approximate = false;         // true when some element has no exact features
   bool object_image = false;        // the domain is the drawing's alpha (transparent background)
   uint32_t outline_features = 0;    // features that came from the SVG's outlines
+  uint32_t detected_features = 0;   // features detected where no outline explains an edge
 };
 
 // The features of the artwork mode: for each outline (top-most shape first) the samples
@@ -166,8 +192,8 @@ struct SvgArtworkResult {
 std::vector<FeatureCurve> ArtworkFeatures(const std::vector<SvgShape>& shapes, const Raster& reference,
                                           const SvgArtworkOptions& options);
 
-// The whole artwork import. Errors: those of ChooseSvgSize, RenderSvg, TraceSvgGeometry and
-// VectorizeWithFeatures.
+// The whole artwork import. Errors: those of ChooseSvgSize, RenderSvg, TraceSvgGeometry,
+// kTooManyOutlineSamples (options.limits.max_outline_samples) and VectorizeWithFeatures.
 StatusOr<SvgArtworkResult> ImportSvgArtwork(const SvgDocument& document, const SvgArtworkOptions& options,
                                             SvgError* error = nullptr);
 
