@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "args.h"
 
+#include <sys/resource.h>
+#include <unistd.h>
+
 #include <cstdio>
 #include <map>
 #include <new>
@@ -10,21 +13,37 @@
 namespace sdvi::cli {
 namespace {
 
-// The files each command reads and writes (MarkInput, MarkOutput), read when it runs.
-struct FileRoles {
+// What SetAction applies before a command runs: the files it reads and writes
+// (MarkInput, MarkOutput) and its memory limit (--max-memory).
+struct CommandSetup {
   std::vector<const std::string*> inputs, outputs;
+  uint64_t max_memory = 0;
 };
-std::map<const CLI::App*, FileRoles>& Roles() {
-  static std::map<const CLI::App*, FileRoles> roles;
+std::map<const CLI::App*, CommandSetup>& Setup() {
+  static std::map<const CLI::App*, CommandSetup> roles;
   return roles;
 }
 
+std::string Mebibytes(uint64_t bytes) { return std::to_string(bytes >> 20) + " MiB"; }
+
+// Limits the address space to max_memory bytes (0: no limit).
+Status LimitMemory(uint64_t max_memory) {
+  if (max_memory == 0) return Status::Ok();
+  struct rlimit limit {};
+  if (::getrlimit(RLIMIT_AS, &limit) != 0) return Status::Ok();
+  if (limit.rlim_max != RLIM_INFINITY && max_memory > limit.rlim_max) max_memory = limit.rlim_max;
+  limit.rlim_cur = max_memory;
+  if (::setrlimit(RLIMIT_AS, &limit) != 0)
+    return Status(StatusCode::kInvalidArgument, "--max-memory " + Mebibytes(max_memory) + ": cannot set the limit");
+  return Status::Ok();
+}
+
 Status CheckOutputs(const CLI::App* command) {
-  const FileRoles& roles = Roles()[command];
+  const CommandSetup& setup = Setup()[command];
   std::vector<std::string> inputs;
-  for (const std::string* in : roles.inputs)
+  for (const std::string* in : setup.inputs)
     if (!in->empty()) inputs.push_back(*in);
-  for (const std::string* out : roles.outputs)
+  for (const std::string* out : setup.outputs)
     if (!out->empty()) SDVI_RETURN_IF_ERROR(CheckOutputPath(*out, inputs));
   return Status::Ok();
 }
@@ -39,17 +58,35 @@ CLI::App* AddCommand(CLI::App& app, const std::string& name, const std::string& 
   for (const std::string& e : examples) footer += "\n  " + e;
   footer += "\n\nExit codes: 0 success, 1 failure, 2 usage error.";
   command->footer(footer);
+  Setup()[command].max_memory = DefaultMaxMemory();
+  command->add_option("--max-memory", Setup()[command].max_memory,
+                      "limit the memory (address space) to SIZE, e.g. 2G, 512M; 0 = no limit; default: "
+                      "3/4 of the physical memory")
+      ->transform(CLI::AsSizeValue(false).description(""))
+      ->default_str(Mebibytes(DefaultMaxMemory()) + " here")
+      ->type_name("SIZE");
   return command;
+}
+
+uint64_t DefaultMaxMemory() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
+  if (pages <= 0 || page <= 0) return 0;
+  return uint64_t(pages) * uint64_t(page) / 4 * 3;
 }
 
 void SetAction(CLI::App* command, Outcome& outcome, std::function<int()> run) {
   command->callback([command, &outcome, run = std::move(run)] {
     try {
-      const Status outputs = CheckOutputs(command);
-      outcome.exit_code = outputs.ok() ? run() : ReportError(command->get_name(), outputs);
+      Status ready = CheckOutputs(command);
+      if (ready.ok()) ready = LimitMemory(Setup()[command].max_memory);
+      outcome.exit_code = ready.ok() ? run() : ReportError(command->get_name(), ready);
     } catch (const std::bad_alloc&) {
-      outcome.exit_code = ReportError(command->get_name(),
-                                      Status(StatusCode::kLimitExceeded, "out of memory"));
+      const CommandSetup& setup = Setup()[command];
+      std::string message = "out of memory";
+      if (!setup.inputs.empty() && !setup.inputs.front()->empty())
+        message = *setup.inputs.front() + ": " + message;  // the main input
+      if (setup.max_memory) message += " (--max-memory " + Mebibytes(setup.max_memory) + ")";
+      outcome.exit_code = ReportError(command->get_name(), Status(StatusCode::kLimitExceeded, message));
     } catch (const std::exception& e) {
       outcome.exit_code =
           ReportError(command->get_name(), Status(StatusCode::kInternal, e.what()));
@@ -57,8 +94,8 @@ void SetAction(CLI::App* command, Outcome& outcome, std::function<int()> run) {
   });
 }
 
-void MarkInput(CLI::App* command, const std::string& path) { Roles()[command].inputs.push_back(&path); }
-void MarkOutput(CLI::App* command, const std::string& path) { Roles()[command].outputs.push_back(&path); }
+void MarkInput(CLI::App* command, const std::string& path) { Setup()[command].inputs.push_back(&path); }
+void MarkOutput(CLI::App* command, const std::string& path) { Setup()[command].outputs.push_back(&path); }
 
 CLI::Option* AddOutput(CLI::App* command, std::string& path, const std::string& what) {
   MarkOutput(command, path);

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -24,8 +25,14 @@ struct Outcome {
 
 // Adds subcommand `name` to app with a one-line description and a footer of examples
 // (one command line per entry). Every option added to it shows its default in --help.
+// Every command gets --max-memory SIZE: the process's address space is limited to it
+// before the action runs (default DefaultMaxMemory()), so a runaway allocation becomes a
+// clean limit_exceeded error instead of the system running out of memory.
 CLI::App* AddCommand(CLI::App& app, const std::string& name, const std::string& description,
                      const std::vector<std::string>& examples);
+
+// Three quarters of the machine's physical memory: the default of --max-memory.
+uint64_t DefaultMaxMemory();
 
 // Makes run the subcommand's action: its return value becomes the exit code; an exception
 // escaping it (a bug or out of memory) is reported as a failure, never a crash.

@@ -52,12 +52,15 @@ int Compress(CodecArgs& a) {
   }
   auto bytes = EncodeImage(*image, &options, a.input);
   if (!bytes.ok()) return ReportError(command, bytes.status());
-  if (Status s = WriteFileAtomic(a.output, *bytes); !s.ok()) return ReportError(command, s);
   const uint64_t paper = PaperSizeBytes(image->vertices.size(), image->triangles.size());
   const double pixels = double(image->width) * double(image->height);
-  const int position_bits =
-      options.position_bits ? options.position_bits : DefaultPositionBits(*image, options.reference_mse);
-  const int color_bits = options.color_bits ? options.color_bits : DefaultColorBits(*image, options.reference_mse);
+  // The bits the file holds (the writer may raise default position bits, spec/FORMAT.md 8.2).
+  auto written = DecodeSdvi(*bytes, a.output);
+  if (!written.ok()) return ReportError(command, written.status());
+  auto payload = InspectDracoPayload(written->compressed_payload, a.output);
+  if (!payload.ok()) return ReportError(command, payload.status());
+  const int position_bits = payload->position_bits, color_bits = payload->color_bits;
+  if (Status s = WriteFileAtomic(a.output, *bytes); !s.ok()) return ReportError(command, s);
   const double bpp = pixels > 0 ? 8.0 * double(bytes->size()) / pixels : 0.0;
   if (a.json) {
     nlohmann::ordered_json j;

@@ -241,6 +241,7 @@ void RegisterInfo(CLI::App& app, Outcome& outcome) {
       app, "info", "what a .sdvi file holds: version, counts, tags, paper size, file size, payload",
       {"sdvi info photo.sdvi", "sdvi info photo.sdvi --json",
        "sdvi info photo.sdvi --features   # feature ids for sdvi edit"});
+  MarkInput(c, a->input);
   c->add_option("input", a->input, "the .sdvi file ('-' reads standard input)")->required()->type_name("FILE.sdvi");
   c->add_flag("--features", a->features,
               "list the features instead: id, kind, sharpness, length, bounding box, vertex count (spec/EDIT.md)");

@@ -13,6 +13,7 @@
 #include "io.h"
 #include "sdvi/file_util.h"
 #include "sdvi/pdf.h"
+#include "sdvi/progress.h"
 
 namespace sdvi::cli {
 namespace {
@@ -30,7 +31,10 @@ int ExportPdf(const ExportPdfArgs& a) {
   if (a.json && IsStdStream(a.output)) return ReportUsage(kCommand, "--json and -o - both use standard output");
   auto image = LoadSdvi(a.input);
   if (!image.ok()) return ReportError(kCommand, image.status());
-  auto exported = WritePdf(a.output, *image, a.options);
+  Progress progress(a.quiet || a.json);  // on a terminal only
+  PdfExportOptions options = a.options;
+  options.progress = &progress;
+  auto exported = WritePdf(a.output, *image, options);
   if (!exported.ok()) {
     // Write errors name the output already; the others concern the input image.
     const Status& status = exported.status();

@@ -298,7 +298,9 @@ void RegisterCompare(CLI::App& app, Outcome& outcome) {
       app, "compare",
       "PSNR, MSSIM and mean error between two images, or a .sdvi (rendered at the other's size) and an image",
       {"sdvi compare out.png in.png", "sdvi compare result.sdvi original.png --json"});
+  MarkInput(c, a->a);
   c->add_option("A", a->a, "the reconstruction: an image or a .sdvi")->required();
+  MarkInput(c, a->b);
   c->add_option("B", a->b, "the reference: an image or a .sdvi")->required();
   c->add_option("--levels", a->levels, "subdivision level for rendering a .sdvi (-1: automatic)")
       ->check(CLI::Range(-1, 8));

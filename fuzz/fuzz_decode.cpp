@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // libFuzzer target over DecodeSdvi (the .sdvi reader).
 // Besides "never crash", it checks the reader/writer contract on every input that
 // decodes: encoding the decoded image succeeds and decodes to its canonical form.

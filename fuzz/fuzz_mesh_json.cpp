@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // libFuzzer target over ParseMeshJson (the mesh JSON reader).
 // Besides "never crash", every document that parses must survive
 // FormatMeshJson -> ParseMeshJson unchanged and encode as a valid .sdvi file.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Builds the libFuzzer targets (clang, ASan + UBSan, every sdvi module instrumented) in
 # their own build directory and fuzzes one target, or all in turn, for SECONDS each in a
 # low-priority process, starting from its committed seed corpus fuzz/corpus/TARGET.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # glTF export report for one image: vectorize (or take a .sdvi), export plain and Draco
 # .glb, validate both with the Khronos validator, show both in three.js (headless
 # Chromium) and compare each screenshot with `sdvi render` at the source size.

@@ -1,4 +1,5 @@
 #!/usr/bin/env node
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Validates glTF files with the Khronos glTF-Validator (npm gltf-validator, validateBytes).
 //   node scripts/gltf_validate.mjs FILE.glb|FILE.gltf... [--json REPORT.json]
 // Prints one line per file (errors, warnings, infos, hints) and every error/warning

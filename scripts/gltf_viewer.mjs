@@ -1,4 +1,5 @@
 #!/usr/bin/env node
+// SPDX-License-Identifier: GPL-3.0-or-later
 // A real glTF viewer for tests: three.js (GLTFLoader + DRACOLoader, both from the npm
 // packages in scripts/npm) in headless Chromium, driven by playwright-core. Files are
 // served from a localhost HTTP server started here; nothing touches the network.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The PDF export measured on real images (issue 12's table): each image is vectorized
 # (cached in OUT), exported with `sdvi export-pdf` (defaults), checked with qpdf, drawn by
 # pdftoppm (poppler, over white), pdftocairo -transp (poppler's cairo backend, RGBA), MuPDF

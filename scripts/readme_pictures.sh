@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The README's pictures, from the built-in sample image:
 #   input.png      `sdvi sample` (512x384, generated in code)
 #   sdvi_x1.png    the vectorized image rendered at the input's size

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Installs every package sdvi needs (Debian 12, as root, no prompts), then configures
 # and builds Release into build/. Idempotent: re-running only rebuilds what changed.
 set -euo pipefail

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // bench_codec: the Draco payload against the paper's raw layout, JPEG and WebP.
 //
 // For every photo and graphic under --data (default /work/shared/data/{photos,graphics}):

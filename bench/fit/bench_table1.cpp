@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // bench_table1: the paper's Table I analogue for the vectorizer, its ablations, a phase
 // timing and a large-image run. Prints Markdown tables; not part of ctest.
 //

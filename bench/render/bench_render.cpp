@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // bench_render: x8 magnification of a ~10k-triangle mesh over a 512x512 image to 4096x4096,
 // against OpenCV's bicubic resize of the 512x512 raster in the same run (time, peak memory,
 // ratio), a x8 crop of both side by side as a PNG, and the metrics oracle check.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Benchmark control meshes: a jittered grid of about N vertices with feature polylines
 // (horizontal crease runs with tagged corners, vertical runs that meet them in junctions,
 // closed loops), so that every vertex type and rule is exercised.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // bench_subdiv: the subdivision engine against OpenSubdiv 3.5's Loop scheme with
 // infinitely sharp creases, on the same meshes (bench_meshes.h: jittered grids with
 // open, closed and junction feature polylines).

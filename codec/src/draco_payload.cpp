@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The Draco payload: header, Draco mesh, tag stream (spec/FORMAT.md, "Compressed
 // payload (Draco)").
 #include <algorithm>

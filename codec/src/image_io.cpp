@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Images in .sdvi files whatever their payload: the container (sdvi_format) outside,
 // the Draco payload (draco_payload.cpp) inside.
 #include <string>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "range_coder.h"
 
 namespace sdvi::codec_internal {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Adaptive binary range coder for the tag stream of the Draco payload (spec/FORMAT.md,
 // "Tag stream"). The LZMA-style binary coder: 32-bit range, 11-bit probabilities of a
 // zero bit, adaptation shift 5, carry propagation through a cached byte, 5 flush bytes.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The tag stream of the Draco payload (spec/FORMAT.md, "Tag stream"): which mesh edges
 // are crease edges, which vertices are explicit corners and, optionally, the feature
 // layer, as adaptive-binary-range-coded bits in an order both sides derive from the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Canonical form, semantic validation and CRC-32 (format.h).
 #include <algorithm>
 #include <array>

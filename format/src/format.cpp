@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The .sdvi container: encoder and validating decoder (spec/FORMAT.md).
 #include "sdvi/format.h"
 

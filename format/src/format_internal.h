@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Internals of sdvi_format shared by its translation units (not installed, not public).
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Synthetic control meshes for the codec tests and benchmark: a jittered grid over a
 // width x height image, a feature polyline pair across it, tagged boundary and corners.
 #pragma once

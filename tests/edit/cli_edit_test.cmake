@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # CLI test of `sdvi edit`, `sdvi info --features` and `sdvi render --overlay features`, run
 # by ctest as   cmake -DSDVI=<sdvi> -DWORK=<scratch dir> -P cli_edit_test.cmake
 # Checks exit codes, byte-identical identity edits (raw and Draco), that the output keeps

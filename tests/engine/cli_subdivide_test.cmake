@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # CLI test of `sdvi subdivide`, run by ctest as
 #   cmake -DSDVI=<sdvi> -DDATA=<tests/data> -DWORK=<scratch dir> -P cli_subdivide_test.cmake
 # Checks exit codes, the PLY header and size, and that a failing command leaves no file.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Crease limit points lie on the cubic B-spline of spec/METHOD.md section 2, evaluated
 // independently with de Boor's algorithm.
 #include <catch2/catch.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Limit masks: the limit of a vertex at level k equals the limit of its child at level
 // k+1, for every vertex type; the sides of a crease decouple.
 #include <catch2/catch.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Control meshes generated in code for the engine tests, and small helpers that apply
 // mask matrices in double precision.
 #pragma once

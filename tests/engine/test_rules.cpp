@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The masks of spec/SUBDIVISION.md (subdiv_rules.h).
 #include <catch2/catch.hpp>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stencil tables: evaluation equals direct refinement, weights sum to 1, regions equal
 // the whole, numbering follows tagged_mesh.h.
 #include <catch2/catch.hpp>

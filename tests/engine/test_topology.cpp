@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tagged topology: tags, refinement numbering, validation errors (tagged_mesh.h).
 #include <catch2/catch.hpp>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // B-spline evaluation and fitting of feature chains (spec/METHOD.md section 2 and section 6 step 2), checked against
 // an independent de Boor evaluator written here from the knot vectors of spec/METHOD.md section 2.
 #include <catch2/catch.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests of the colour least squares (color_fit.h): exact reproduction through the
 // renderer, constants, linear precision, unseen vertices, determinism, bad input.
 #include <catch2/catch.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Curvilinear feature detection on synthetic images drawn with OpenCV (paper IV step 1-2).
 #include <catch2/catch.hpp>
 #include <cmath>

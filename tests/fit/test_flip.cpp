@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests of the data-dependent edge flips (vectorize.h, FlipEdgesToData).
 #include <catch2/catch.hpp>
 

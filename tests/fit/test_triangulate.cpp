@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Control mesh construction (paper IV steps 3-4): pairs, no crossings, constrained
 // Delaunay triangulation without Steiner points on features, tags.
 #include <catch2/catch.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests of the vectorizer driver (vectorize.h): quality on small synthetic images, the
 // budgets, determinism, object images, the refinement helpers and bad input.
 #include <catch2/catch.hpp>

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # CLI test of `sdvi convert` and `sdvi info`, run by ctest as
 #   cmake -DSDVI=<sdvi> -DDATA=<tests/data> -DWORK=<scratch dir> -P cli_test.cmake
 # Checks exit codes, outputs, and that a failing command leaves no output file.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The .sdvi container: round trips, canonical form, size bound, every reader error.
 #include <catch2/catch.hpp>
 #include <cmath>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The mesh JSON form: bit-exact round trips with .sdvi, and its errors.
 #include <catch2/catch.hpp>
 #include <cstring>

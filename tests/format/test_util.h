@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Helpers for the format tests: synthetic meshes and byte-level file surgery.
 #pragma once
 

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # ctest gltf_cli: `sdvi export-gltf` options, exit codes (0 ok, 1 failure, 2 usage) and
 # atomic output (a failed export leaves no file).
 #   cli_test.sh SDVI FIXTURE WORK_DIR

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests of the glTF exporter (converters/gltf, spec/GLTF.md). Files are read back with an
 // independent GLB parser (nlohmann_json + the BIN chunk) and Draco's decoder; the Khronos
 // validator and the three.js viewer run as separate ctest tests (tests/gltf/*.sh).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Helper for the glTF script tests (validator_test.sh, viewer_test.sh): builds their
 // inputs in code and compares screenshots.
 //   sdvi_gltf_fixture sdvi   gradient|object W H OUT.sdvi

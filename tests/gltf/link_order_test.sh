@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # ctest gltf_link_order: DEPENDENCIES.md trap 1. libdraco.so carries an older tinygltf with
 # the same symbol names; in a binary that uses both, libtinygltf.so must be loaded first
 # (earlier DT_NEEDED entry) so that tinygltf's symbols bind to tinygltf.

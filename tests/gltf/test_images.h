@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Small sdvi images built in code for the glTF tests.
 #pragma once
 

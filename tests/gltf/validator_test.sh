@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # ctest gltf_validator: every kind of file sdvi exports (plain, Draco, control mesh, both;
 # .glb and .gltf; a full-frame image with a crease pair and an object image) passes the
 # Khronos glTF-Validator with zero errors and zero warnings (infos are allowed).

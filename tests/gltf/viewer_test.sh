@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # ctest gltf_viewer_three: a real viewer shows the image. For a full-frame image (at 2x)
 # and an object image (at 1x), `sdvi export-gltf` (plain .glb, --draco .glb, and
 # --draco --control-mesh .gltf, whose control mesh lies beside the frame) is loaded by

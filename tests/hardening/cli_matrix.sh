@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The bad-input matrix through the command line (issue 16): every command that reads an
 # .sdvi file, on an empty file, truncations, single-byte flips, huge declared sizes and
 # values no image has; convert and compress on non-manifold, duplicate and folded meshes.
@@ -106,6 +107,13 @@ if [ -w /dev/full ]; then
   "$SDVI" render "$GOLDEN" -o /dev/full --format png --quiet 2>"$WORK/err.txt"; rc=$?
   [ $rc -eq 1 ] && [ -c /dev/full ] || fail "render -o /dev/full: exit $rc (expected 1), $(head -1 "$WORK/err.txt")"
 fi
+
+# A memory limit turns a runaway into a clean limit error (issue 16, case 3).
+cases=$((cases + 1))
+"$SDVI" sample -o "$WORK/big.png" --width 3000 --height 3000 >/dev/null || fail "sample 3000x3000"
+"$SDVI" vectorize "$WORK/big.png" -o "$WORK/big.sdvi" --max-memory 600M >/dev/null 2>"$WORK/err.txt"; rc=$?
+[ $rc -eq 1 ] && grep -q "limit_exceeded" "$WORK/err.txt" && grep -q "big.png" "$WORK/err.txt" && [ ! -e "$WORK/big.sdvi" ] ||
+  fail "vectorize --max-memory 600M: exit $rc, $(head -1 "$WORK/err.txt")"
 
 echo "cli matrix: $cases cases, $failures failed"
 [ $failures -eq 0 ]

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # ctest pdf_check: `qpdf --check` accepts the exports (structure, xref, object streams,
 # the Flate data of every stream) of a full-frame and an object image at three levels.
 #   check_test.sh FIXTURE WORK_DIR

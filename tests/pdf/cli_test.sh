@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # ctest pdf_cli: `sdvi export-pdf` options, exit codes (0 ok, 1 failure, 2 usage) and no
 # output left behind on failure.
 #   cli_test.sh SDVI FIXTURE WORK_DIR

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # ctest pdf_viewers / pdf_viewer_pdfjs: real PDF viewers draw the export like `sdvi render`
 # draws the .sdvi. For a full-frame image and an object image with a hole, at the image's
 # size and at x4, each viewer's drawing must reach PSNR >= 35 dB against `sdvi render` of

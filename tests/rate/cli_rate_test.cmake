@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # CLI test of the one-PSNR rule (spec/RATE.md 1) and `sdvi info`'s bytes by part, run by ctest as
 #   cmake -DSDVI=<sdvi> -DWORK=<scratch dir> -P cli_rate_test.cmake
 # vectorize --compress reports a PSNR; compare of the .sdvi and compare of its x1 PNG render

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # CLI test of `sdvi render` and `sdvi compare`, run by ctest as
 #   cmake -DSDVI=<sdvi> -DDATA=<tests/data> -DWORK=<scratch dir> -P cli_render_test.cmake
 # Checks output sizes, the EXR header, compare's JSON, exit codes, and that a failing

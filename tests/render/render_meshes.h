@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Synthetic meshes for the render tests: generated in code, deterministic.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // EXR output: opens in exrheader and OpenCV, matches the PNG within quantization.
 #include <catch2/catch.hpp>
 

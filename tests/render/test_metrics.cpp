@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Metrics (spec/METHOD.md section 9) against an independent, direct computation.
 #include <catch2/catch.hpp>
 

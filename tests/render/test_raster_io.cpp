@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // PNG reading and writing through sdvi_raster_io.
 #include <catch2/catch.hpp>
 

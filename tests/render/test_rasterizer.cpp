@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The scan converter on plain triangle meshes: fill rule, barycentrics, folds, coverage.
 #include <catch2/catch.hpp>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Render: the limit surface of an Image at any scale (spec/METHOD.md section 4).
 #include <catch2/catch.hpp>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Shared by tests and benchmarks: the triangles of a regular grid of quads, each split
 // along alternating diagonals so that interior vertices have valence 4 and 8 in turn.
 #pragma once

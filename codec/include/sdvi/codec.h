@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The compressed payload of a .sdvi file (spec/FORMAT.md, "Compressed payload (Draco)").
 //
 // The control mesh (vertices, triangles, crease edges, explicit corners) travels as one

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // EXR files through OpenEXR (exr_io.h). OpenEXR exceptions stop here.
 #include "sdvi/exr_io.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // glTF 2.0 export: limit surface -> tinygltf model (+ Draco buffer view) -> .glb / .gltf.
 // The mapping (units, orientation, colour space, extras) is specified in spec/GLTF.md.
 #include "sdvi/gltf.h"

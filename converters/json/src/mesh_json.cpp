@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Mesh JSON <-> sdvi::Image (spec/MESH_JSON.md).
 #include "sdvi/mesh_json.h"
 

@@ -575,6 +575,7 @@ StatusOr<PdfExport> EncodePdfOrThrow(const Image& image, const PdfExportOptions&
                       Number(kMaxPdfPageSide) + " pt (choose another --dpi or --width-mm)");
   }
 
+  if (options.progress) options.progress->Phase("limit surface (level " + std::to_string(result.levels) + ")");
   LimitSurfaceOptions surface_options;
   surface_options.levels = result.levels;
   surface_options.to_limit = true;
@@ -626,6 +627,7 @@ StatusOr<PdfExport> EncodePdfOrThrow(const Image& image, const PdfExportOptions&
       i += 2;
     }
   }
+  if (options.progress) options.progress->Phase("shading stream");
   const std::string raw = PackRecords(records, quantised, result.bits_per_flag,
                                       result.bits_per_coordinate, result.bits_per_component);
   result.shading_raw_bytes = raw.size();
@@ -634,6 +636,7 @@ StatusOr<PdfExport> EncodePdfOrThrow(const Image& image, const PdfExportOptions&
 
   const std::string clip = ClipPath(BoundaryLoops(surface.triangles, quantised), quantised);
   SDVI_ASSIGN_OR_RETURN(result.bytes, BuildDocument(image, result, options, compressed, clip));
+  if (options.progress) options.progress->Done();
   return result;
 }
 

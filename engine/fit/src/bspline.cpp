@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Cubic B-spline evaluation and least-squares fitting of feature chains (spec/METHOD.md section 2 and section 6 step 2).
 #include "sdvi/bspline.h"
 

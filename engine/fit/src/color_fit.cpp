@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Colour least squares through the limit stencils (paper eq. 2-3); see color_fit.h.
 //
 // Assembly, per control triangle T (the parent of a set of fine triangles):

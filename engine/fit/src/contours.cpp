@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Object-mode domain boundary: mask contours (outer and holes) as boundary feature curves.
 #include "contours.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Object-mode domain: the mask's outer contours and holes as boundary feature curves.
 #pragma once
 

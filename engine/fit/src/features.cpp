@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Curvilinear feature detection (paper section IV step 1) and B-spline fitting (step 2).
 // The rules are documented on FeatureOptions in sdvi/features.h.
 #include <algorithm>

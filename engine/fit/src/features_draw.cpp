@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Debug pictures of the features and the control mesh (for vectorize --debug-dir).
 #include <algorithm>
 #include <cmath>

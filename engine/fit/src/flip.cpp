@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Data-dependent edge flips of a control mesh (vectorize.h, FlipEdgesToData): the
 // constrained Delaunay triangulation ignores the colours; a flip of a non-crease edge is
 // kept when the piecewise-linear interpolation of the image colours at the vertices fits

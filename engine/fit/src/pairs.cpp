@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Feature placement: boundary, feature pairs, no crossings (rules in pairs.h).
 #include "pairs.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Feature placement for the control mesh (paper section IV step 3): the domain boundary,
 // feature pairs offset from each fitted control polygon, and the rule that no two
 // feature polylines cross or come closer than a clearance.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Interior sample placement (vectorize.h building blocks): initial grid, error map,
 // greedy far-apart selection.
 #include "sdvi/vectorize.h"

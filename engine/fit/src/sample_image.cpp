@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The built-in sample image of `sdvi sample` (vectorize.h): a smooth background gradient, a
 // soft (blurred) wavy edge, a sharp-edged shaded disc and a sharp triangle with corners.
 // Drawn analytically (signed distances, no randomness): equal sizes give equal pixels.

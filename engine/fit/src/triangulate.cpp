@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Control mesh construction (paper section IV step 4): constrained Delaunay triangulation
 // of the placed boundary, feature polylines and interior samples with CGAL, refined to a
 // minimum angle without Steiner points on constrained edges (DEPENDENCIES.md trap 5).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The vectorizer's driver (paper section IV): features -> control mesh -> colour fit ->
 // refinement rounds; see vectorize.h for the rules and the budget.
 #include "sdvi/vectorize.h"
@@ -11,6 +12,8 @@
 #include <numeric>
 #include <string>
 #include <unordered_map>
+
+#include <opencv2/core.hpp>
 
 #include "sdvi/progress.h"
 #include "sdvi/render.h"
@@ -398,11 +401,14 @@ StatusOr<VectorizeResult> VectorizeGuarded(const Raster& raster, const Raster* m
     return VectorizeFrom(raster, mask, given, options);
   } catch (const std::bad_alloc&) {
     return Status(StatusCode::kLimitExceeded, "vectorize: out of memory on the " + size + " image");
+  } catch (const cv::Exception& e) {
+    // OpenCV's own text (e.err), without its multi-line what().
+    if (e.code == cv::Error::StsNoMem)
+      return Status(StatusCode::kLimitExceeded, "vectorize: out of memory on the " + size + " image (" + e.err + ")");
+    return Status(StatusCode::kInternal,
+                  "vectorize: OpenCV failed on the " + size + " image: " + e.err + " (in " + e.func + ")");
   } catch (const std::exception& e) {
-    const std::string what = e.what();
-    if (what.find("Insufficient memory") != std::string::npos || what.find("Failed to allocate") != std::string::npos)
-      return Status(StatusCode::kLimitExceeded, "vectorize: out of memory on the " + size + " image (" + what + ")");
-    return Status(StatusCode::kInternal, "vectorize: a dependency failed on the " + size + " image: " + what);
+    return Status(StatusCode::kInternal, "vectorize: a dependency failed on the " + size + " image: " + e.what());
   }
 }
 

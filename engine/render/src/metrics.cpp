@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Image metrics of spec/METHOD.md section 9: PSNR, MSSIM (Wang et al. 2004), mean absolute error.
 #include <algorithm>
 #include <array>

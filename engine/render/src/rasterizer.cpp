@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Scan conversion of fine triangles: the pixel -> fine triangle map (MapPixels) and the
 // direct colour render with domain-edge coverage (RenderFineMesh). Rules in sdvi/render.h.
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Render: subdivide the control mesh to a level chosen from the output scale, push the
 // fine vertices to the limit surface and scan-convert them (spec/METHOD.md section 4).
 #include <algorithm>

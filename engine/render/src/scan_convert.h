@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Private to the render module: fixed-point scan conversion of triangles with the
 // top-left fill rule (see the rule in sdvi/render.h).
 #pragma once

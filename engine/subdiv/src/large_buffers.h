@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Large scratch and output arrays: reserving them with a hint to the kernel to back them
 // with transparent huge pages. On virtual machines a 4 KiB page fault can cost tens of
 // microseconds, which made first-touch faults most of the cost of building a stencil

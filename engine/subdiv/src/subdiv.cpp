@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // BuildLimitSurface (stencils), RefineImage (direct), EvaluateSurface, StencilTable::Apply.
 #include "sdvi/subdiv.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "sdvi/subdiv_rules.h"
 
 #include <array>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The .sdvi container (spec/FORMAT.md): reading, writing, validating.
 //
 // A .sdvi file is one FlatBuffers buffer (schema/sdvi.fbs, identifier "SDVI") holding the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // OpenEXR files for compositing: linear-light RGBA (half or float) with an optional
 // per-pixel `error` channel. The exr module owns this header.
 //

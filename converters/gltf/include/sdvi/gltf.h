@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // glTF 2.0 export of an sdvi image for viewers (spec/GLTF.md has the full mapping).
 //
 // The limit surface at level r (spec/SUBDIVISION.md) becomes one indexed triangle mesh:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The mesh JSON form (spec/MESH_JSON.md): a human-readable sdvi::Image for authoring and
 // testing. Floats travel bit-exactly: the writer prints the shortest decimal that reads
 // back (as float32) to the same float, the reader parses numbers directly as float32.

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "sdvi/image.h"
+#include "sdvi/progress.h"
 #include "sdvi/status.h"
 
 namespace sdvi {
@@ -43,6 +44,7 @@ struct PdfExportOptions {
   PdfBackground background = PdfBackground::kNone;
   int coordinate_bits = 0;  // BitsPerCoordinate: 0 = chosen from the size, else 8, 12, 16, 24, 32
   int color_bits = 8;       // BitsPerComponent: 8, 12 or 16
+  Progress* progress = nullptr;  // optional terminal progress (not owned)
 };
 
 // The largest level accepted, the fine-triangle budget of an explicit level, and the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Raster image files: PNG, JPEG, TIFF, BMP, GIF, WebP, PNM, TGA, OpenEXR and Radiance HDR in;
 // PNG (8/16-bit, sRGB-tagged) out. The raster module owns this header and may add declarations.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Cubic B-spline feature curves (spec/METHOD.md section 2 and section 6 step 2).
 //
 // A feature polyline of the control mesh is the deBoor (control) polygon of a cubic

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Colour fit (paper eq. 2-3, spec/METHOD.md section 5): the control positions are fixed, the
 // control colours are the unknowns of a linear least-squares problem
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Public contract between curvilinear feature extraction / control-mesh construction
 // (paper section IV steps 1-4) and the colour fit / refinement loop (steps 5-6).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Vectorizing a raster (paper section IV, spec/METHOD.md section 6): curvilinear features,
 // B-spline fitting, feature pairs, constrained Delaunay triangulation (features.h), then the
 // colour fit (color_fit.h) and the refinement loop below.

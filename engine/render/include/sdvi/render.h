@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Public contract of the renderer and metrics (spec/METHOD.md sections 4 and 9), used by the
 // colour fit, the CLI and the exporters. The render module owns the implementation and
 // may add declarations; the names below are what other modules rely on.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Public contract of the subdivision engine (spec/SUBDIVISION.md, spec/METHOD.md section 3), used by the
 // renderer, the colour fit and the exporters. The engine module owns the implementation
 // and may add declarations; the names below are what other modules rely on.

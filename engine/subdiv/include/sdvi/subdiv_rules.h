@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The extended Loop scheme of Zhou, Zheng, Wei (IEEE TIP 2014), spec/SUBDIVISION.md:
 // every refinement and limit mask in one place. Masks only, no storage and no topology:
 // callers gather a vertex's neighbourhood and ask here for the weights. Every mask's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tagged triangle-mesh topology of the extended Loop scheme (spec/SUBDIVISION.md section 1):
 // connectivity tables (structure of arrays) plus crease tags on edges and
 // smooth / crease / corner tags on vertices. Refinement produces the next level's

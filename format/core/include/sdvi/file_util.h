@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // File helpers shared by every module that reads or writes files.
 // Every output is written atomically: to a temporary file beside the target, then
 // renamed; a failed write leaves nothing behind. Precisely:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // sdvi::Image: the representation of spec/METHOD.md section 2, independent of any file format.
 //
 // Units: positions in pixels of the source image, (0,0) = top-left corner of the

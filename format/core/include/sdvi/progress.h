@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Progress: phase and step reporting for long work. Prints to stderr only when stderr
 // is a terminal and the caller did not ask for quiet; otherwise does nothing.
 #pragma once

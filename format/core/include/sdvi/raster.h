@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Raster: a float image in memory, the common currency between converters, the
 // renderer, metrics and the vectorizer.
 //

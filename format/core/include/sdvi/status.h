@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Status and StatusOr: how every sdvi library function reports failure.
 // A Status carries a specific code (act on it) and a message that names the input,
 // the place and what was expected (show it). Exceptions from dependencies are caught

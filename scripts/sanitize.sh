@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# The sanitizer pass of the test suite: unit-test executables built with GCC's
+# AddressSanitizer + UndefinedBehaviorSanitizer (-O1; the first error ends the run, leaks
+# included) in their own build directory, each Catch2 executable run whole.
+#   usage: scripts/sanitize.sh [readers|all]
+#   readers (default, what scripts/test.sh runs): the tests of everything that reads,
+#            validates or writes files and of the mesh construction: format, codec,
+#            hardening (the bad-input matrix), render (raster input and output), fit
+#            (triangulation, where CGAL's mesher once read an uninitialised flag).
+#   all:     every test executable (the whole Catch2 suite; a few more minutes).
+#   env: ASAN_BUILD_DIR (default build-asan)
+# The readers are also fuzzed under ASan + UBSan by the fuzz.* tests (scripts/fuzz.sh).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+WHICH=${1:-readers}
+case "$WHICH" in
+  readers) TESTS="format codec hardening render fit" ;;
+  all) TESTS="format codec hardening render fit engine gltf create edit pdf svg rate cli" ;;
+  *) echo "sanitize.sh: unknown set '$WHICH' (readers or all)" >&2; exit 2 ;;
+esac
+DIR=${ASAN_BUILD_DIR:-build-asan}
+SAN="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
+LAUNCHER=()
+command -v ccache >/dev/null 2>&1 && LAUNCHER=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+cmake -S . -B "$DIR" -G Ninja -DCMAKE_BUILD_TYPE=Sanitize "${LAUNCHER[@]}" \
+  -DCMAKE_C_FLAGS_SANITIZE="-O1 -g1 $SAN" -DCMAKE_CXX_FLAGS_SANITIZE="-O1 -g1 $SAN" \
+  -DCMAKE_EXE_LINKER_FLAGS_SANITIZE="$SAN" -DCMAKE_SHARED_LINKER_FLAGS_SANITIZE="$SAN" \
+  -DSDVI_BUILD_BENCH=OFF -DSDVI_BUILD_PYTHON=OFF -DSDVI_FUZZ_TESTS=OFF >/dev/null
+targets=()
+for t in $TESTS; do targets+=("sdvi_${t}_tests"); done
+cmake --build "$DIR" -j"$(nproc)" --target "${targets[@]}"
+
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:strict_string_checks=1:detect_stack_use_after_return=1
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+failed=0
+for t in $TESTS; do
+  # The tests' working directory is their build directory, as under ctest.
+  if (cd "$DIR/tests/$t" && "./sdvi_${t}_tests" --reporter compact >"sanitize.log" 2>&1); then
+    echo "sanitize: sdvi_${t}_tests: $(tail -1 "$DIR/tests/$t/sanitize.log")"
+  else
+    failed=$((failed + 1))
+    echo "sanitize: sdvi_${t}_tests FAILED; its log:" >&2
+    tail -40 "$DIR/tests/$t/sanitize.log" >&2
+  fi
+done
+[ "$failed" -eq 0 ]
