@@ -42,7 +42,9 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 # npm tools for the glTF tests (validator, three.js), installed locally and offline-safe.
-if [ -f scripts/npm/package.json ] && [ ! -d scripts/npm/node_modules ]; then
+# Installed when missing, or again when package.json changed since the last install.
+if [ -f scripts/npm/package.json ] && { [ ! -d scripts/npm/node_modules ] ||
+     [ scripts/npm/package.json -nt scripts/npm/node_modules/.package-lock.json ]; }; then
   (cd scripts/npm && npm install --no-audit --no-fund --silent </dev/null) || \
     echo "warning: npm install failed; glTF viewer/validator tests will be skipped" >&2
 fi
