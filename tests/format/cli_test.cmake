@@ -5,15 +5,7 @@
 file(REMOVE_RECURSE ${WORK})
 file(MAKE_DIRECTORY ${WORK})
 
-function(run_sdvi expected_rc)
-  execute_process(COMMAND ${SDVI} ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out
-                  ERROR_VARIABLE err)
-  if(NOT rc EQUAL expected_rc)
-    message(FATAL_ERROR "sdvi ${ARGN}: exit ${rc}, expected ${expected_rc}\n${out}\n${err}")
-  endif()
-  set(last_out "${out}" PARENT_SCOPE)
-  set(last_err "${err}" PARENT_SCOPE)
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/../support/run_sdvi.cmake)
 
 # JSON -> sdvi is the golden file; sdvi -> JSON is the golden JSON; both byte-exact.
 run_sdvi(0 convert ${DATA}/golden_v1_0.json ${WORK}/g.sdvi)

@@ -8,13 +8,7 @@ file(REMOVE_RECURSE ${WORK})
 file(MAKE_DIRECTORY ${WORK})
 set(golden ${DATA}/golden_v1_0.sdvi)  # 24 x 24
 
-function(run_sdvi expected_rc)
-  execute_process(COMMAND ${SDVI} ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL expected_rc)
-    message(FATAL_ERROR "sdvi ${ARGN}: exit ${rc}, expected ${expected_rc}\n${out}\n${err}")
-  endif()
-  set(last_out "${out}" PARENT_SCOPE)
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/../support/run_sdvi.cmake)
 
 # Width and height from a PNG's IHDR chunk.
 function(png_size path out_w out_h)
