@@ -11,6 +11,7 @@
 
 #include "format_internal.h"
 #include "sdvi/format.h"
+#include "sdvi/mesh_rules.h"
 
 namespace sdvi::format_internal {
 namespace {
@@ -63,20 +64,10 @@ Status ValidateValues(const Image& image, const std::string& source) {
 Status ValidateTopology(const Image& image, const std::string& source) {
   const std::vector<Triangle>& tris = image.triangles;
   // The same vertex set twice, in any order or orientation.
-  {
-    std::vector<std::pair<std::array<uint32_t, 3>, uint32_t>> keys(tris.size());
-    for (size_t t = 0; t < tris.size(); ++t) {
-      std::array<uint32_t, 3> k = tris[t].v;
-      std::sort(k.begin(), k.end());
-      keys[t] = {k, static_cast<uint32_t>(t)};
-    }
-    std::sort(keys.begin(), keys.end());
-    for (size_t i = 1; i < keys.size(); ++i)
-      if (keys[i].first == keys[i - 1].first)
-        return Status(StatusCode::kDuplicateTriangle,
-                      source + ": " + TriangleText(keys[i].second, tris[keys[i].second]) +
-                          " has the same vertices as triangle " + std::to_string(keys[i - 1].second));
-  }
+  if (const auto twice = FindDuplicateTriangle(tris))
+    return Status(StatusCode::kDuplicateTriangle, source + ": " + TriangleText(twice->first, tris[twice->first]) +
+                                                      " has the same vertices as triangle " +
+                                                      std::to_string(twice->second));
   // Edges as (smaller, larger, triangle, position of the edge in the triangle).
   struct Record {
     uint32_t a, b, t, k;

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "large_buffers.h"
+#include "sdvi/mesh_rules.h"
 #include "sdvi/subdiv_rules.h"
 
 namespace sdvi {
@@ -100,20 +101,10 @@ StatusOr<TaggedMesh> TaggedMesh::Build(uint32_t num_vertices, std::span<const Tr
       return Status(StatusCode::kDegenerateTriangle, TriangleName(t, tri) + " repeats a vertex");
   }
   // Duplicate triangles: the same vertex set in any order or orientation.
-  {
-    std::vector<std::pair<std::array<uint32_t, 3>, uint32_t>> keys(triangles.size());
-    for (size_t t = 0; t < triangles.size(); ++t) {
-      std::array<uint32_t, 3> k = triangles[t].v;
-      std::sort(k.begin(), k.end());
-      keys[t] = {k, static_cast<uint32_t>(t)};
-    }
-    std::sort(keys.begin(), keys.end());
-    for (size_t i = 1; i < keys.size(); ++i)
-      if (keys[i].first == keys[i - 1].first)
-        return Status(StatusCode::kDuplicateTriangle,
-                      TriangleName(keys[i].second, triangles[keys[i].second]) +
-                          " has the same vertices as triangle " + std::to_string(keys[i - 1].second));
-  }
+  if (const auto twice = FindDuplicateTriangle(triangles))
+    return Status(StatusCode::kDuplicateTriangle, TriangleName(twice->first, triangles[twice->first]) +
+                                                      " has the same vertices as triangle " +
+                                                      std::to_string(twice->second));
   for (uint32_t c : corners)
     if (c >= num_vertices)
       return Status(StatusCode::kIndexOutOfRange,
