@@ -26,13 +26,25 @@ std::map<const CLI::App*, CommandSetup>& Setup() {
 
 std::string Mebibytes(uint64_t bytes) { return std::to_string(bytes >> 20) + " MiB"; }
 
-// Limits the address space to max_memory bytes (0: no limit).
+// The process's address space now (its shared libraries and start-up allocations).
+uint64_t AddressSpaceNow() {
+  unsigned long long pages = 0;
+  std::FILE* statm = std::fopen("/proc/self/statm", "r");
+  if (statm == nullptr) return 0;
+  if (std::fscanf(statm, "%llu", &pages) != 1) pages = 0;
+  std::fclose(statm);
+  return uint64_t(pages) * uint64_t(::sysconf(_SC_PAGESIZE));
+}
+
+// Lets the command add at most max_memory bytes of address space to what the process
+// holds at start-up (about 0.3 GiB of shared libraries and thread arenas); 0: no limit.
 Status LimitMemory(uint64_t max_memory) {
   if (max_memory == 0) return Status::Ok();
   struct rlimit limit {};
   if (::getrlimit(RLIMIT_AS, &limit) != 0) return Status::Ok();
-  if (limit.rlim_max != RLIM_INFINITY && max_memory > limit.rlim_max) max_memory = limit.rlim_max;
-  limit.rlim_cur = max_memory;
+  uint64_t total = AddressSpaceNow() + max_memory;
+  if (limit.rlim_max != RLIM_INFINITY && total > limit.rlim_max) total = limit.rlim_max;
+  limit.rlim_cur = total;
   if (::setrlimit(RLIMIT_AS, &limit) != 0)
     return Status(StatusCode::kInvalidArgument, "--max-memory " + Mebibytes(max_memory) + ": cannot set the limit");
   return Status::Ok();
@@ -60,8 +72,8 @@ CLI::App* AddCommand(CLI::App& app, const std::string& name, const std::string& 
   command->footer(footer);
   Setup()[command].max_memory = DefaultMaxMemory();
   command->add_option("--max-memory", Setup()[command].max_memory,
-                      "limit the memory (address space) to SIZE, e.g. 2G, 512M; 0 = no limit; default: "
-                      "3/4 of the physical memory")
+                      "limit the memory the command may allocate (address space beyond what the program holds "
+                      "at start) to SIZE, e.g. 2G, 512M; 0 = no limit; default: 3/4 of the physical memory")
       ->transform(CLI::AsSizeValue(false).description(""))
       ->default_str(Mebibytes(DefaultMaxMemory()) + " here")
       ->type_name("SIZE");

@@ -25,8 +25,8 @@ struct Outcome {
 
 // Adds subcommand `name` to app with a one-line description and a footer of examples
 // (one command line per entry). Every option added to it shows its default in --help.
-// Every command gets --max-memory SIZE: the process's address space is limited to it
-// before the action runs (default DefaultMaxMemory()), so a runaway allocation becomes a
+// Every command gets --max-memory SIZE: the address space the process may add to what it
+// holds at start is limited to it before the action runs (default DefaultMaxMemory()), so a runaway allocation becomes a
 // clean limit_exceeded error instead of the system running out of memory.
 CLI::App* AddCommand(CLI::App& app, const std::string& name, const std::string& description,
                      const std::vector<std::string>& examples);
