@@ -50,6 +50,7 @@ int ExportPdf(const ExportPdfArgs& a) {
     j["records"] = exported->records;
     j["bits_per_coordinate"] = exported->bits_per_coordinate;
     j["bits_per_component"] = exported->bits_per_component;
+    j["steep_triangles"] = exported->steep_triangles;
     j["page_width_pt"] = exported->page_width_pt;
     j["page_height_pt"] = exported->page_height_pt;
     j["shading_bytes"] = exported->shading_bytes;
@@ -89,6 +90,11 @@ void RegisterExportPdf(CLI::App& app, Outcome& outcome) {
           std::map<std::string, PdfBackground>{{"none", PdfBackground::kNone}, {"white", PdfBackground::kWhite}},
           CLI::ignore_case))
       ->default_str("none");
+  c->add_option("--coordinate-bits", o.coordinate_bits,
+                 "BitsPerCoordinate of the shading (0: the smallest of 8..32 with steps <= 1/64 source pixel)")
+      ->check(CLI::IsMember({0, 8, 12, 16, 24, 32}));
+  c->add_option("--color-bits", o.color_bits, "BitsPerComponent of the shading's colours")
+      ->check(CLI::IsMember({8, 12, 16}));
   AddQuiet(c, a->quiet);
   AddJson(c, a->json);
   SetAction(c, outcome, [a] { return ExportPdf(*a); });

@@ -24,6 +24,12 @@ expect 0 "--dpi 144 --background white --levels 1 --json" export-pdf "$work/in.s
   --dpi 144 --background white --levels 1 --json
 grep -q '"page_width_pt": 48' "$work/out.log" && grep -q '"level": 1' "$work/out.log" ||
   { echo "FAIL: --json content"; cat "$work/out.log"; status=1; }
+expect 0 "--coordinate-bits 24 --color-bits 16 --json" export-pdf "$work/in.sdvi" -o "$work/f.pdf" \
+  --coordinate-bits 24 --color-bits 16 --json
+grep -q '"bits_per_coordinate": 24' "$work/out.log" && grep -q '"bits_per_component": 16' "$work/out.log" &&
+  grep -q '"steep_triangles": ' "$work/out.log" || { echo "FAIL: bits in --json"; cat "$work/out.log"; status=1; }
+expect 2 "--color-bits 10" export-pdf "$work/in.sdvi" -o "$work/e.pdf" --color-bits 10
+expect 2 "--coordinate-bits 20" export-pdf "$work/in.sdvi" -o "$work/e.pdf" --coordinate-bits 20
 expect 0 "--width-mm" export-pdf "$work/in.sdvi" -o "$work/d.pdf" --width-mm 50.8 --quiet
 expect 2 "--dpi and --width-mm together" export-pdf "$work/in.sdvi" -o "$work/e.pdf" --dpi 72 --width-mm 10
 expect 2 "--background gray" export-pdf "$work/in.sdvi" -o "$work/e.pdf" --background gray

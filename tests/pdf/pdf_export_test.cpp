@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -16,6 +17,7 @@
 #include <qpdf/QPDFObjectHandle.hh>
 #include <qpdf/QPDFPageDocumentHelper.hh>
 
+#include "grid_triangles.h"
 #include "pdf_test_images.h"
 #include "sdvi/export_levels.h"
 #include "sdvi/pdf.h"
@@ -438,6 +440,85 @@ TEST_CASE("The default level is the exporters' rule", "[pdf]") {
   REQUIRE(exported.ok());
   CHECK(exported->levels == DefaultExportLevels(image));
   CHECK(exported->triangles == image.triangles.size() << (2 * exported->levels));
+}
+
+TEST_CASE("ColorGradient is the steepest channel's plane gradient", "[pdf]") {
+  // r rises by 100 over 2 px in x, g by 100 over 4 px in y: |grad r| = 50, |grad g| = 25.
+  const Vertex a{0, 0, 0, 0, 7}, b{2, 0, 100, 0, 7}, c{0, 4, 0, 100, 7};
+  CHECK(ColorGradient(a, b, c) == Approx(50));
+  CHECK(ColorGradient(c, a, b) == Approx(50));  // any vertex order, either orientation
+  CHECK(ColorGradient(a, c, b) == Approx(50));
+  // A diagonal ramp: b rises by 30 from (0,0) to (3,4), constant across it.
+  const Vertex p{0, 0, 0, 0, 0}, q{3, 4, 0, 0, 30}, r{-4, 3, 0, 0, 0};
+  CHECK(ColorGradient(p, q, r) == Approx(6));
+  // Zero area: flat colour 0, different colours infinitely steep.
+  const Vertex d{1, 0, 0, 0, 7};
+  CHECK(ColorGradient(a, d, b) == std::numeric_limits<double>::infinity());
+  const Vertex e{1, 0, 0, 0, 7}, f{2, 0, 0, 0, 7};
+  CHECK(ColorGradient(a, e, f) == 0);
+}
+
+// A full-frame image with a one-pixel colour ramp: vertex columns at x = 0, 15, 16, 32, the
+// left two dark, the right two light (a 200-level step over 1 px).
+Image StepImage() {
+  Image image;
+  image.width = 32;
+  image.height = 24;
+  const float xs[4] = {0, 15, 16, 32};
+  auto id = [](int i, int j) { return uint32_t(j * 4 + i); };
+  for (int j = 0; j <= 2; ++j) {
+    for (int i = 0; i < 4; ++i) {
+      const bool light = i >= 2;
+      image.vertices.push_back({xs[i], 12.0f * j, light ? 220.0f : 20.0f, light ? 200.0f : 40.0f,
+                                light ? 180.0f : 60.0f});
+    }
+  }
+  testing::AppendGridTriangles(3, 2, id, &image.triangles);
+  return image;
+}
+
+TEST_CASE("Steep triangles are painted first, then the others", "[pdf]") {
+  const Image image = StepImage();
+  PdfExportOptions options;
+  options.levels = 2;
+  CheckShadingIsSurface(image, options);  // the reordered shading is still the surface
+
+  auto exported = EncodePdf(image, options);
+  REQUIRE(exported.ok());
+  LimitSurfaceOptions surface_options;
+  surface_options.levels = 2;
+  auto refined = RefineImage(image, surface_options);
+  REQUIRE(refined.ok());
+  uint32_t steep = 0;
+  for (const Triangle& t : refined->triangles) {
+    const auto& v = refined->vertices;
+    steep += ColorGradient(v[t.v[0]], v[t.v[1]], v[t.v[2]]) > kSteepColorGradient;
+  }
+  REQUIRE(steep > 0);
+  REQUIRE(steep < refined->triangles.size());
+  CHECK(exported->steep_triangles == steep);
+
+  // Read back: after the two guards, the first `steep` triangles are the steep ones. The
+  // decoded gradients carry the quantisation of colours (<= 1 level) and positions, so the
+  // check allows a factor of two around the threshold.
+  const auto triangles = DecodedTriangles(ReadPdf(exported->bytes).vertices);
+  REQUIRE(triangles.size() == refined->triangles.size() + 2);
+  auto decoded_gradient = [](const std::array<DecodedVertex, 3>& t) {
+    Vertex v[3];
+    for (int k = 0; k < 3; ++k) {
+      v[k] = {float(t[k].x), float(t[k].y), float(t[k].c[0] * 255), float(t[k].c[1] * 255),
+              float(t[k].c[2] * 255)};
+    }
+    return ColorGradient(v[0], v[1], v[2]);
+  };
+  for (size_t i = 2; i < triangles.size(); ++i) {
+    const double g = decoded_gradient(triangles[i]);
+    if (i < 2 + steep) {
+      CHECK(g > kSteepColorGradient / 2);
+    } else {
+      CHECK(g < kSteepColorGradient * 2);
+    }
+  }
 }
 
 }  // namespace

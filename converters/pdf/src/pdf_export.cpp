@@ -186,6 +186,25 @@ StatusOr<std::vector<Triangle>> TrianglesFromRecords(const std::vector<ShadingRe
   return triangles;
 }
 
+double ColorGradient(const Vertex& a, const Vertex& b, const Vertex& c) {
+  const double ux = double(b.x) - a.x, uy = double(b.y) - a.y;
+  const double wx = double(c.x) - a.x, wy = double(c.y) - a.y;
+  const double area2 = ux * wy - uy * wx;  // twice the signed area
+  const double ca[3] = {a.r, a.g, a.b}, cb[3] = {b.r, b.g, b.b}, cc[3] = {c.r, c.g, c.b};
+  double gradient = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double d1 = cb[k] - ca[k], d2 = cc[k] - ca[k];
+    if (area2 == 0) {
+      if (d1 != 0 || d2 != 0) return std::numeric_limits<double>::infinity();
+      continue;
+    }
+    // The plane c(p) = ca + gx (x - ax) + gy (y - ay) through the three colours.
+    const double gx = (d1 * wy - d2 * uy) / area2, gy = (d2 * ux - d1 * wx) / area2;
+    gradient = std::max(gradient, std::hypot(gx, gy));
+  }
+  return gradient;
+}
+
 int CoordinateBitsFor(double extent) {
   for (int bits : {8, 12, 16, 24}) {
     if (extent / double((uint64_t(1) << bits) - 1) <= kMaxCoordinateStep) return bits;
@@ -618,7 +637,16 @@ StatusOr<PdfExport> EncodePdfOrThrow(const Image& image, const PdfExportOptions&
   for (uint32_t guard : {result.vertices, result.vertices + 1}) {
     records.insert(records.end(), 3, ShadingRecord{0, guard});
   }
-  for (const ShadingRecord& r : TriangleStrips(surface.triangles)) records.push_back(r);
+  // Paint order: the steep triangles, then the others, each class as strips.
+  std::vector<Triangle> steep, flat;
+  for (const Triangle& t : surface.triangles) {
+    const bool is_steep = ColorGradient(fine[t.v[0]], fine[t.v[1]], fine[t.v[2]]) > kSteepColorGradient;
+    (is_steep ? steep : flat).push_back(t);
+  }
+  result.steep_triangles = uint32_t(steep.size());
+  for (const std::vector<Triangle>* part : {&steep, &flat}) {
+    for (const ShadingRecord& r : TriangleStrips(*part)) records.push_back(r);
+  }
   result.records = uint32_t(records.size());
   result.strips = 0;
   for (size_t i = 0; i < records.size(); ++i) {

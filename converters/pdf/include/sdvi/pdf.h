@@ -53,6 +53,13 @@ inline constexpr int kMaxPdfLevels = 6;
 inline constexpr uint64_t kMaxPdfFineTriangles = uint64_t(1) << 24;
 inline constexpr double kMaxPdfPageSide = 14400;
 
+// Paint order (spec/PDF.md "Paint order"): viewers paint every pixel a triangle touches
+// (poppler), so where triangles share a pixel the last one painted sets it. Fine triangles
+// whose colour changes by more than kSteepColorGradient 8-bit levels per source pixel (in
+// any of r, g, b) are painted first, the others after them, so that a shared pixel takes
+// the colour of the flatter triangle, which is off by less where it misses the pixel's centre.
+inline constexpr double kSteepColorGradient = 32;
+
 // What an export produced (the numbers a reader of the file would find).
 struct PdfExport {
   std::vector<uint8_t> bytes;      // the whole PDF file
@@ -62,6 +69,7 @@ struct PdfExport {
   uint32_t records = 0;            // vertex records in the shading stream (6 guard records,
                                    // then the surface's strips; spec/PDF.md)
   uint32_t strips = 0;             // flag-0 triples (the 2 guard triangles and the strips)
+  uint32_t steep_triangles = 0;    // fine triangles painted first (ColorGradient > kSteepColorGradient)
   int bits_per_coordinate = 0;
   int bits_per_component = 0;
   int bits_per_flag = 0;
@@ -86,6 +94,12 @@ std::vector<ShadingRecord> TriangleStrips(const std::vector<Triangle>& triangles
 // The triangles the records describe (the reading rule of ISO 32000-1 8.7.4.5.5);
 // kCorrupt when a flag is out of range or a strip starts with a flag other than 0.
 StatusOr<std::vector<Triangle>> TrianglesFromRecords(const std::vector<ShadingRecord>& records);
+
+// The largest colour gradient of the triangle (a, b, c) over r, g, b, in 8-bit levels per
+// source pixel: |grad c| of the plane through the three vertices' colours. A triangle of
+// zero area with different colours at its vertices has an infinite gradient, one with equal
+// colours 0.
+double ColorGradient(const Vertex& a, const Vertex& b, const Vertex& c);
 
 // The smallest BitsPerCoordinate (8, 12, 16, 24, 32) whose step over extent source pixels is
 // at most 1/64 pixel.
