@@ -5,14 +5,13 @@
 # low-priority process, starting from its committed seed corpus fuzz/corpus/TARGET.
 # New inputs go to $FUZZ_DIR/corpus-TARGET, crashing ones to $FUZZ_DIR/artifacts-TARGET.
 #   usage: scripts/fuzz.sh [SECONDS (default 600; 0 = build only)] [TARGET|all (default all)]
-#   (all: every target but svg, which needs librsvg and runs on its own)
 #   targets: decode         the .sdvi reader, DecodeSdvi (fuzz/fuzz_decode.cpp)
 #            draco_payload  the Draco payload decoder alone, DecodeDracoPayload
 #            compress       decode -> compress (Draco) -> decode, DecodeImage/EncodeImage
 #            mesh_json      the mesh JSON reader, ParseMeshJson
 #            raster         raster decode through the importer, DecodeRaster
 #            svg            the SVG importer's input side, LoadSvg + RenderSvg +
-#                           TraceSvgGeometry (seeds in fuzz/svg_seeds)
+#                           TraceSvgGeometry, ArtworkFeatures
 #   env: FUZZ_DIR (default build-fuzz), CXX_FUZZ / CC_FUZZ (default clang++ / clang),
 #        FUZZ_RSS_MB (default 2048), FUZZ_NICE (default 10), FUZZ_QUIET=1 (libFuzzer's log
 #        to FUZZ_DIR/TARGET.log)
@@ -22,7 +21,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 RUN_SECONDS=${1:-600}
 WHICH=${2:-all}
-ALL_TARGETS="decode draco_payload compress mesh_json raster"
+ALL_TARGETS="decode draco_payload compress mesh_json raster svg"
 case "$WHICH" in
   all) TARGETS=$ALL_TARGETS ;;
   decode|draco_payload|compress|mesh_json|raster|svg) TARGETS=$WHICH ;;
@@ -51,7 +50,6 @@ for t in $TARGETS; do
   mkdir -p "$CORPUS" "$ARTIFACTS"
   echo "fuzz.sh: fuzzing $t for ${RUN_SECONDS}s (new inputs in $CORPUS)"
   SEEDS="fuzz/corpus/$t"
-  [ "$t" = svg ] && SEEDS=fuzz/svg_seeds
   # svg: fontconfig/pango keep process-lifetime caches that LeakSanitizer would report.
   # raster: OpenImageIO's per-thread error text (fuzz/raster_lsan.supp).
   case "$t" in
