@@ -100,6 +100,21 @@ TEST_CASE("svg geometry: a gradient's matrix does not change the stroke width", 
   CHECK(traced->shapes[0].stroke_width == Approx(6.0).margin(1e-4));  // 1.5 user units x 4
 }
 
+TEST_CASE("svg geometry: a repeating pattern's tile is not traced where it is not seen", "[svg]") {
+  // The tile (two 5 px squares) is drawn into its own surface in tile space, at 0..10; the
+  // pattern fills the rectangle at 20..40. Only the rectangle is traced.
+  const sdvi::SvgDocument doc = Doc(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"60\" height=\"60\"><defs>"
+      "<pattern id=\"p\" patternUnits=\"userSpaceOnUse\" width=\"10\" height=\"10\">"
+      "<rect width=\"5\" height=\"5\" fill=\"red\"/><rect x=\"5\" y=\"5\" width=\"5\" height=\"5\" "
+      "fill=\"blue\"/></pattern></defs><rect x=\"20\" y=\"20\" width=\"20\" height=\"20\" fill=\"url(#p)\"/></svg>");
+  auto traced = sdvi::TraceSvgGeometry(doc, 60, 60);
+  REQUIRE(traced.ok());
+  REQUIRE(traced->shapes.size() == 1);
+  CHECK(traced->shapes[0].outlines[0].points[0].x == Approx(20));
+  CHECK(traced->shapes[0].outlines[0].points[0].y == Approx(20));
+}
+
 TEST_CASE("svg geometry: shapes without area do not stop the trace", "[svg]") {
   // cairo's script surface fails on the fill of an axis-aligned line (default fill black)
   // and then refuses every later operation; the traced document leaves such shapes unfilled.

@@ -8,12 +8,20 @@
 //                          the stroke width in device pixels = width x sqrt(|det CTM|)
 //   context ... pop, save ... restore: graphics-state scopes. Between linear / radial /
 //   pattern / mesh and the set-source that consumes it, set-matrix is the pattern's.
+//   w h //CONTENT similar dup /NAME exch def context ... pop: a surface drawn apart (group
+//   opacity, masks, pattern tiles), in device space. NAME pattern ... //EXTEND_REPEAT
+//   set-extend set-source: a tiled pattern, whose tile's shapes are in tile space, not
+//   where they are seen: they are dropped (the artwork mode detects the pattern's edges,
+//   spec/SVG.md; repeating 10 px tiles as outline features costs more of the vertex
+//   budget than it gains).
 // Everything else (sources, patterns, image data, dictionaries) is skipped token by token:
 // strings (...) with escapes, base85 data <~ ... ~> and <| ... ~>, hex <...>, comments.
 #include <cairo-script.h>
 #include <cairo.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <cstdlib>
 #include <string>
 #include <vector>
@@ -41,7 +49,11 @@ class ScriptReader {
   std::vector<SvgShape> Read() {
     std::string token;
     while (Next(&token)) Handle(token);
-    return std::move(shapes_);
+    std::vector<SvgShape> kept;
+    for (size_t k = 0; k < shapes_.size(); ++k) {
+      if (!dropped_[k]) kept.push_back(std::move(shapes_[k]));
+    }
+    return kept;
   }
 
  private:
@@ -145,8 +157,16 @@ class ScriptReader {
     for (const SvgOutline& o : path_) {
       if (o.points.size() >= 4) shape.outlines.push_back(o);
     }
-    if (!shape.outlines.empty()) shapes_.push_back(std::move(shape));
+    if (shape.outlines.empty()) return;
+    shapes_.push_back(std::move(shape));
+    dropped_.push_back(0);
   }
+
+  // A surface drawn apart: its shapes [begin, end) in shapes_.
+  struct Surface {
+    size_t begin = 0, end = 0;
+    bool open = true;
+  };
 
   void Handle(const std::string& t) {
     double v = 0;
@@ -165,8 +185,42 @@ class ScriptReader {
       return;
     }
     if (in_array_) return;  // names inside arrays
+    if (t[0] == '/') {  // a literal name: //EXTEND_REPEAT, /s2 (keeps the numbers before it)
+      literal_ = t;
+      return;
+    }
     double a[6];
     GraphicsState& g = states_.back();
+    if (t == "def" && literal_.size() > 1) {
+      defined_ = literal_.substr(1);
+    } else if (t == "context" && !defined_.empty()) {
+      Surface surface;
+      surface.begin = shapes_.size();
+      surfaces_[defined_] = surface;
+      surface_of_state_.resize(states_.size() + 1);
+      surface_of_state_[states_.size()] = defined_;  // the state pushed below
+      defined_.clear();
+    } else if (t == "set-extend") {
+      pattern_repeat_ = literal_ == "//EXTEND_REPEAT" || literal_ == "//EXTEND_REFLECT";
+    } else if (t == "pattern") {
+      pattern_surface_ = surfaces_.count(word_) > 0 ? word_ : std::string();
+      pattern_repeat_ = false;
+    }
+    if (t == "set-source") {
+      auto it = surfaces_.find(pattern_surface_);
+      if (pattern_open_ && pattern_repeat_ && it != surfaces_.end() && !it->second.open) {
+        for (size_t k = it->second.begin; k < it->second.end; ++k) dropped_[k] = 1;
+      }
+      pattern_surface_.clear();
+    }
+    if ((t == "pop" || t == "restore") && states_.size() > 1 && surface_of_state_.size() >= states_.size() &&
+        !surface_of_state_[states_.size() - 1].empty()) {
+      Surface& surface = surfaces_[surface_of_state_[states_.size() - 1]];
+      surface.end = shapes_.size();
+      surface.open = false;
+      surface_of_state_[states_.size() - 1].clear();
+    }
+    word_ = t;
     if (t == "n") {
       path_.clear();
     } else if (t == "m" && Take(2, a)) {
@@ -232,6 +286,12 @@ class ScriptReader {
   std::vector<SvgOutline> path_;
   std::vector<GraphicsState> states_{GraphicsState()};
   std::vector<SvgShape> shapes_;
+  std::vector<uint8_t> dropped_;  // per shape: a tile's own shape, replaced by its copies
+  std::string literal_, word_, defined_;  // the last literal name, the last word, a new surface's name
+  std::map<std::string, Surface> surfaces_;
+  std::vector<std::string> surface_of_state_;  // per state depth: the surface it draws
+  std::string pattern_surface_;            // the surface of the pattern being made
+  bool pattern_repeat_ = false;
 };
 
 }  // namespace
