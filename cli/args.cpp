@@ -8,6 +8,7 @@
 #include <map>
 #include <new>
 
+#include "batch_args.h"
 #include "sdvi/file_util.h"
 
 namespace sdvi::cli {
@@ -18,6 +19,7 @@ namespace {
 struct CommandSetup {
   std::vector<const std::string*> inputs, outputs;
   uint64_t max_memory = 0;
+  const std::string* output = nullptr;  // -o (AddOutput)
 };
 std::map<const CLI::App*, CommandSetup>& Setup() {
   static std::map<const CLI::App*, CommandSetup> roles;
@@ -60,6 +62,15 @@ Status CheckOutputs(const CLI::App* command) {
   return Status::Ok();
 }
 
+// The output files given other than -o (a batch refuses them: every job would write them).
+std::vector<std::string> OtherOutputs(const CLI::App* command) {
+  const CommandSetup& setup = Setup()[command];
+  std::vector<std::string> given;
+  for (const std::string* out : setup.outputs)
+    if (out != setup.output && !out->empty()) given.push_back(*out);
+  return given;
+}
+
 }  // namespace
 
 CLI::App* AddCommand(CLI::App& app, const std::string& name, const std::string& description,
@@ -89,6 +100,7 @@ uint64_t DefaultMaxMemory() {
 void SetAction(CLI::App* command, Outcome& outcome, std::function<int()> run) {
   command->callback([command, &outcome, run = std::move(run)] {
     try {
+      if (RunBatchIfAsked(command, OtherOutputs(command), outcome.exit_code)) return;
       Status ready = CheckOutputs(command);
       if (ready.ok()) ready = LimitMemory(Setup()[command].max_memory);
       outcome.exit_code = ready.ok() ? run() : ReportError(command->get_name(), ready);
@@ -111,6 +123,7 @@ void MarkOutput(CLI::App* command, const std::string& path) { Setup()[command].o
 
 CLI::Option* AddOutput(CLI::App* command, std::string& path, const std::string& what) {
   MarkOutput(command, path);
+  Setup()[command].output = &path;
   return command->add_option("-o,--output", path, what + " ('-' writes standard output)")
       ->required()
       ->type_name("FILE");

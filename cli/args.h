@@ -48,6 +48,23 @@ CLI::Option* AddOutput(CLI::App* command, std::string& path, const std::string& 
 // cannot be written fails before any work and leaves nothing behind.
 void MarkInput(CLI::App* command, const std::string& path);
 void MarkOutput(CLI::App* command, const std::string& path);
+// Batch mode (README "Many images"): what a directory contributes to a batch and what each
+// job writes.
+struct BatchSpec {
+  std::vector<std::string> input_extensions;  // lower case, no dot: "png", "sdvi"
+  std::string output_extension;               // each job writes DIR/STEM.<this>
+  std::string format_option;                  // when given, its value is the extension ("--format")
+  std::vector<std::string> single_only;       // options that name one output ("--debug-dir")
+};
+
+// Adds the positional input of a command that also runs over many files: "IN..." (required,
+// marked as an input). One input with -o is the command itself; several inputs, directories
+// (their files with one of spec.input_extensions) or globs with -O DIR run it once per file
+// (cli/batch.h), each job the same command with -o DIR/STEM.EXT and the other options as
+// given, with -j N, --batch-report, --max-memory-per-job and --overwrite. -o and -O exclude
+// each other; one of them is required. Call after AddOutput; SetAction runs the batch.
+CLI::Option* AddInputs(CLI::App* command, std::string& input, const std::string& what, const BatchSpec& spec);
+
 // Adds "--quiet" (no progress, no summary line).
 CLI::Option* AddQuiet(CLI::App* command, bool& quiet);
 // Adds "--json" (the result as JSON on standard output).

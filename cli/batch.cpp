@@ -113,6 +113,15 @@ StatusOr<pid_t> Start(const BatchOptions& o, const BatchJob& job, const std::str
   return pid;
 }
 
+// Whether a job's error text says it ran out of memory: sdvi's own "out of memory"
+// (kLimitExceeded), an uncaught std::bad_alloc, or the loader unable to map a library.
+bool OutOfMemory(const std::string& error) {
+  for (const char* sign : {"out of memory", "bad_alloc", "failed to map segment", "Cannot allocate memory"}) {
+    if (error.find(sign) != std::string::npos) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 StatusOr<std::vector<BatchJob>> PlanBatch(const BatchOptions& options) {
@@ -124,6 +133,11 @@ StatusOr<std::vector<BatchJob>> PlanBatch(const BatchOptions& options) {
     for (const std::string& file : files) {
       const std::string output =
           (fs::path(options.output_dir) / (fs::path(file).stem().string() + "." + options.output_extension)).string();
+      std::error_code ec;
+      if (fs::equivalent(file, output, ec)) {
+        return Status(StatusCode::kInvalidArgument,
+                      "batch: " + file + " would be its own output; choose another output directory");
+      }
       auto [it, fresh] = writer.emplace(output, file);
       if (!fresh) {
         if (it->second == file) continue;  // the same file named twice
@@ -217,7 +231,7 @@ StatusOr<BatchSummary> RunBatch(const BatchOptions& options, const std::vector<B
               (WIFSIGNALED(status) ? std::string("killed by signal ") + std::to_string(WTERMSIG(status))
                                    : "failed with exit code " + std::to_string(code));
     }
-    if (options.max_memory_bytes > 0 && (error.find("bad_alloc") != std::string::npos || WIFSIGNALED(status))) {
+    if (options.max_memory_bytes > 0 && (OutOfMemory(error) || WIFSIGNALED(status))) {
       error += " (memory limit " + std::to_string(options.max_memory_bytes >> 20) + " MiB per job)";
     }
     record(done.job, "failed", code, seconds, rss_mib, error);

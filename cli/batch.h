@@ -6,7 +6,7 @@
 // Rules:
 // - Inputs: files, directories (their files with one of `input_extensions`, sorted) and glob
 //   patterns (sorted matches), in the order given. Two inputs that would write the same
-//   output are a usage error before any job starts.
+//   output, or an output that is its own input, are refused before any job starts.
 // - Resumable: an output that exists is complete (every command writes atomically), so its
 //   job is skipped (`skip_existing`).
 // - Memory: each child runs under an address-space limit of `max_memory_bytes` (0 = none); a
@@ -50,7 +50,8 @@ struct BatchSummary {
 };
 
 // The jobs for options' inputs (see the rules). Errors: kNotFound (an input that is neither
-// a file, a directory nor a pattern that matches), kInvalidArgument (two inputs, one output).
+// a file, a directory nor a pattern that matches), kInvalidArgument (two inputs, one output;
+// an input that is its own output).
 StatusOr<std::vector<BatchJob>> PlanBatch(const BatchOptions& options);
 
 // Runs the jobs; errors only for the batch itself (output directory, report file, fork).

@@ -100,10 +100,10 @@ void RegisterCompress(CLI::App& app, Outcome& outcome) {
       app, "compress", "re-encode a .sdvi with a Draco payload (quantised positions and colours, edgebreaker)",
       {"sdvi compress in.sdvi -o small.sdvi",
        "sdvi compress in.sdvi -o small.sdvi --reference original.png   # quantise from the fit's error",
-       "sdvi compress in.sdvi -o small.sdvi --position-bits 14 --color-bits 8 --speed 0"});
-  MarkInput(c, a->input);
-  c->add_option("input", a->input, "the .sdvi file (any payload; '-' reads standard input)")->required()->type_name("IN.sdvi");
+       "sdvi compress in.sdvi -o small.sdvi --position-bits 14 --color-bits 8 --speed 0",
+       "sdvi compress raw/ -O small/ -j 2   # every .sdvi in raw/"});
   AddOutput(c, a->output, "the compressed .sdvi file");
+  AddInputs(c, a->input, "the .sdvi file (any payload; '-' reads standard input)", {{"sdvi"}, "sdvi", "", {}});
   c->add_option("--position-bits", o.position_bits, "quantisation bits for x, y (0: automatic)")->check(CLI::Range(0, 30));
   c->add_option("--color-bits", o.color_bits, "quantisation bits for R, G, B (0: automatic)")->check(CLI::Range(0, 30));
   c->add_option("--speed", o.speed, "Draco speed: 0 smallest file .. 10 fastest")->check(CLI::Range(0, 10));
@@ -125,10 +125,9 @@ void RegisterCompress(CLI::App& app, Outcome& outcome) {
 void RegisterDecompress(CLI::App& app, Outcome& outcome) {
   auto a = std::make_shared<CodecArgs>();
   CLI::App* c = AddCommand(app, "decompress", "re-encode a .sdvi with the raw payload",
-                           {"sdvi decompress small.sdvi -o raw.sdvi"});
-  MarkInput(c, a->input);
-  c->add_option("input", a->input, "the .sdvi file (any payload; '-' reads standard input)")->required()->type_name("IN.sdvi");
+                           {"sdvi decompress small.sdvi -o raw.sdvi", "sdvi decompress small/ -O raw/ -j 2"});
   AddOutput(c, a->output, "the raw-payload .sdvi file");
+  AddInputs(c, a->input, "the .sdvi file (any payload; '-' reads standard input)", {{"sdvi"}, "sdvi", "", {}});
   AddQuiet(c, a->quiet);
   SetAction(c, outcome, [a] { return Decompress(*a); });
 }

@@ -80,10 +80,10 @@ void RegisterExportGltf(CLI::App& app, Outcome& outcome) {
       app, "export-gltf", "write the limit surface as glTF 2.0 for viewers (unlit, linear vertex colours)",
       {"sdvi export-gltf in.sdvi -o out.glb", "sdvi export-gltf in.sdvi -o out.glb --draco --levels 3",
        "sdvi export-gltf in.sdvi -o out.gltf --control-mesh   (writes out.gltf and out.bin)",
-       "sdvi export-gltf in.sdvi -o out.gltf --embed           (one file, base64 buffer)"});
-  MarkInput(c, a->input);
-  c->add_option("input", a->input, "the .sdvi file ('-' reads standard input)")->required()->type_name("IN.sdvi");
+       "sdvi export-gltf in.sdvi -o out.gltf --embed           (one file, base64 buffer)",
+       "sdvi export-gltf out/ -O glb/ -j 2 --draco             (out/NAME.sdvi -> glb/NAME.glb)"});
   AddOutput(c, a->output, "OUT.glb (binary) or OUT.gltf (JSON)");
+  AddInputs(c, a->input, "the .sdvi file ('-' reads standard input)", {{"sdvi"}, "glb", "", {}});
   c->add_option("--levels", o.levels, "subdivision level r (-1: about one fine triangle per pixel)")
       ->check(CLI::Range(-1, kMaxGltfLevels));
   a->draco = c->add_flag("--draco", o.draco, "compress the surface with KHR_draco_mesh_compression");

@@ -74,10 +74,10 @@ void RegisterExportPdf(CLI::App& app, Outcome& outcome) {
       app, "export-pdf",
       "write the limit surface as a one-page PDF (a Gouraud-shaded triangle mesh, any size)",
       {"sdvi export-pdf in.sdvi -o out.pdf", "sdvi export-pdf in.sdvi -o out.pdf --dpi 300 --background white",
-       "sdvi export-pdf in.sdvi -o out.pdf --width-mm 180 --levels 3"});
-  MarkInput(c, a->input);
-  c->add_option("input", a->input, "the .sdvi file ('-' reads standard input)")->required()->type_name("IN.sdvi");
+       "sdvi export-pdf in.sdvi -o out.pdf --width-mm 180 --levels 3",
+       "sdvi export-pdf out/ -O pdf/ -j 2   # out/NAME.sdvi -> pdf/NAME.pdf"});
   AddOutput(c, a->output, "OUT.pdf");
+  AddInputs(c, a->input, "the .sdvi file ('-' reads standard input)", {{"sdvi"}, "pdf", "", {}});
   c->add_option("--levels", o.levels, "subdivision level r (-1: fine triangles of about 2 source pixels)")
       ->check(CLI::Range(-1, kMaxPdfLevels));
   CLI::Option* dpi = c->add_option("--dpi", o.dpi, "source pixels per inch: the page is width x 72 / dpi points")

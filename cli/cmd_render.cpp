@@ -265,10 +265,10 @@ void RegisterRender(CLI::App& app, Outcome& outcome) {
        "sdvi render in.sdvi -o out.png --width 1920     # height keeps the aspect ratio",
        "sdvi render in.sdvi -o crop.exr --scale 8 --region 100,100,512,512 --half",
        "sdvi render in.sdvi -o - --format png > out.png",
-       "sdvi render in.sdvi -o ids.png --scale 3 --overlay features   # feature ids for sdvi edit"});
-  MarkInput(c, a->input);
-  c->add_option("input", a->input, "the .sdvi file ('-' reads standard input)")->required()->type_name("IN.sdvi");
+       "sdvi render in.sdvi -o ids.png --scale 3 --overlay features   # feature ids for sdvi edit",
+       "sdvi render 'out/*.sdvi' -O png/ --scale 4 -j 2   # out/NAME.sdvi -> png/NAME.png"});
   AddOutput(c, a->output, "the output image, .png (8/16-bit sRGB, alpha = domain) or .exr (linear light)");
+  AddInputs(c, a->input, "the .sdvi file ('-' reads standard input)", {{"sdvi"}, "png", "--format", {}});
   c->add_option("--format", a->format, "output format when -o does not tell it by extension")
       ->check(CLI::IsMember({"png", "exr"}));
   a->scale_opt = c->add_option("--scale", a->scale, "magnification factor")->check(CLI::Range(1e-6, 65536.0));

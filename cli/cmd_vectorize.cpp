@@ -235,11 +235,12 @@ void RegisterVectorize(CLI::App& app, Outcome& outcome) {
       {"sdvi vectorize photo.jpg -o photo.sdvi",
        "sdvi vectorize photo.png -o photo.sdvi --compression-ratio 25 --report report.json",
        "sdvi vectorize logo.png -o logo.sdvi --target-psnr 40 --compress",
-       "cat photo.png | sdvi vectorize - -o - > photo.sdvi"});
-  MarkInput(c, a->input);
-  c->add_option("input", a->input, "the image: PNG, JPEG, TIFF, BMP (8/16-bit; grey, RGB, RGBA); '-' reads standard input")
-      ->required()->type_name("IN");
+       "cat photo.png | sdvi vectorize - -o - > photo.sdvi",
+       "sdvi vectorize photos/ -O out/ -j 2 --batch-report report.jsonl   # every image in photos/"});
   AddOutput(c, a->output, "the .sdvi file to write");
+  AddInputs(c, a->input, "the image: PNG, JPEG, TIFF, BMP (8/16-bit; grey, RGB, RGBA); '-' reads standard input",
+            {{"png", "jpg", "jpeg", "tif", "tiff", "bmp", "gif", "webp", "pnm", "pbm", "pgm", "ppm", "tga", "exr", "hdr"},
+             "sdvi", "", {"--debug-dir"}});
   auto* target_psnr = c->add_option("--target-psnr", o.target_psnr, "stop refining at this PSNR in dB (0: no target); reached or reported (spec/RATE.md)")
       ->check(CLI::Range(0.0, 200.0));
   c->add_option("--max-triangles", o.max_triangles, "triangle budget (0: from --compression-ratio)")

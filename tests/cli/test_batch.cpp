@@ -126,6 +126,13 @@ TEST_CASE("globs and files combine; two inputs writing one output are refused", 
   REQUIRE_FALSE(clash.ok());
   CHECK(clash.status().code() == sdvi::StatusCode::kInvalidArgument);
   CHECK(clash.status().message().find("would both write") != std::string::npos);
+  f.options.inputs = {(f.root / "in" / "a.png").string()};
+  f.options.output_dir = (f.root / "in").string();
+  f.options.output_extension = "png";
+  auto self = sdvi::cli::PlanBatch(f.options);
+  REQUIRE_FALSE(self.ok());
+  CHECK(self.status().code() == sdvi::StatusCode::kInvalidArgument);
+  CHECK(self.status().message().find("its own output") != std::string::npos);
   f.options.inputs = {(f.root / "in" / "missing.png").string()};
   auto missing = sdvi::cli::PlanBatch(f.options);
   REQUIRE_FALSE(missing.ok());
