@@ -4,6 +4,7 @@
 
 #include <fcntl.h>
 #include <glob.h>
+#include <signal.h>
 #include <sys/resource.h>
 #include <sys/time.h>
 #include <sys/wait.h>
@@ -17,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <thread>
 #include <nlohmann/json.hpp>
 
 #include "sdvi/file_util.h"
@@ -75,7 +77,34 @@ struct Running {
   BatchJob job;
   Clock::time_point start;
   std::string error_file;
+  uint64_t stopped_at_bytes = 0;  // resident memory when the limit stopped it (0: not stopped)
+  Clock::time_point stopped;
 };
+
+// A running process's resident memory in bytes (/proc/PID/statm), 0 when unknown.
+uint64_t ResidentBytes(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/statm");
+  uint64_t size = 0, resident = 0;
+  if (!(in >> size >> resident)) return 0;
+  return resident * uint64_t(sysconf(_SC_PAGESIZE));
+}
+
+// Stops the jobs whose resident memory is over the limit (batch.h, Memory): SIGTERM, on
+// which sdvi removes its temporary output file, then SIGKILL a second later.
+void EnforceMemoryLimit(std::map<pid_t, Running>& running, uint64_t limit) {
+  for (auto& [pid, job] : running) {
+    if (job.stopped_at_bytes != 0) {
+      if (Clock::now() - job.stopped > std::chrono::seconds(1)) kill(pid, SIGKILL);
+      continue;
+    }
+    const uint64_t resident = ResidentBytes(pid);
+    if (resident > limit) {
+      job.stopped_at_bytes = resident;
+      job.stopped = Clock::now();
+      kill(pid, SIGTERM);
+    }
+  }
+}
 
 std::string ReadAndRemove(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -102,24 +131,11 @@ StatusOr<pid_t> Start(const BatchOptions& o, const BatchJob& job, const std::str
     const int err_fd = open(error_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (null_fd >= 0) dup2(null_fd, STDOUT_FILENO);
     if (err_fd >= 0) dup2(err_fd, STDERR_FILENO);
-    if (o.max_memory_bytes > 0) {
-      const rlimit limit{rlim_t(o.max_memory_bytes), rlim_t(o.max_memory_bytes)};
-      setrlimit(RLIMIT_AS, &limit);
-    }
     execv(o.executable.c_str(), argv.data());
     std::fprintf(stderr, "%s: cannot run %s: %s\n", job.input.c_str(), o.executable.c_str(), std::strerror(errno));
     _exit(127);
   }
   return pid;
-}
-
-// Whether a job's error text says it ran out of memory: sdvi's own "out of memory"
-// (kLimitExceeded), an uncaught std::bad_alloc, or the loader unable to map a library.
-bool OutOfMemory(const std::string& error) {
-  for (const char* sign : {"out of memory", "bad_alloc", "failed to map segment", "Cannot allocate memory"}) {
-    if (error.find(sign) != std::string::npos) return true;
-  }
-  return false;
 }
 
 }  // namespace
@@ -201,12 +217,18 @@ StatusOr<BatchSummary> RunBatch(const BatchOptions& options, const std::vector<B
         batch_error = pid.status();
         break;
       }
-      running[*pid] = {job, Clock::now(), error_file};
+      running[*pid] = {job, Clock::now(), error_file, 0, {}};
     }
     if (running.empty()) break;
     int status = 0;
     rusage usage{};
-    const pid_t pid = wait4(-1, &status, 0, &usage);
+    const bool watch = options.max_memory_bytes > 0;
+    const pid_t pid = wait4(-1, &status, watch ? WNOHANG : 0, &usage);
+    if (pid == 0) {  // none finished yet (watching memory)
+      EnforceMemoryLimit(running, options.max_memory_bytes);
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      continue;
+    }
     if (pid < 0) {
       if (errno == EINTR) continue;
       batch_error = Status(StatusCode::kInternal, std::string("batch: wait failed: ") + std::strerror(errno));
@@ -219,20 +241,22 @@ StatusOr<BatchSummary> RunBatch(const BatchOptions& options, const std::vector<B
     const double seconds = std::chrono::duration<double>(Clock::now() - done.start).count();
     const double rss_mib = double(usage.ru_maxrss) / 1024.0;
     std::string error = ReadAndRemove(done.error_file);
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+    if (done.stopped_at_bytes != 0) {
+      error = done.job.input + ": stopped at " + std::to_string((done.stopped_at_bytes + (1u << 20) - 1) >> 20) +
+              " MiB resident, over the memory limit of " + std::to_string(options.max_memory_bytes >> 20) +
+              " MiB per job";
+    } else if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
       ++summary.ok;
       record(done.job, "ok", 0, seconds, rss_mib, "");
       continue;
     }
     ++summary.failed;
-    const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    if (code == 0) code = 128 + SIGTERM;  // stopped by the memory limit as it finished
     if (error.empty()) {
       error = done.job.input + ": " +
               (WIFSIGNALED(status) ? std::string("killed by signal ") + std::to_string(WTERMSIG(status))
                                    : "failed with exit code " + std::to_string(code));
-    }
-    if (options.max_memory_bytes > 0 && (OutOfMemory(error) || WIFSIGNALED(status))) {
-      error += " (memory limit " + std::to_string(options.max_memory_bytes >> 20) + " MiB per job)";
     }
     record(done.job, "failed", code, seconds, rss_mib, error);
   }

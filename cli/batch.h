@@ -9,8 +9,10 @@
 //   output, or an output that is its own input, are refused before any job starts.
 // - Resumable: an output that exists is complete (every command writes atomically), so its
 //   job is skipped (`skip_existing`).
-// - Memory: each child runs under an address-space limit of `max_memory_bytes` (0 = none); a
-//   job that goes over it fails like any other.
+// - Memory: while jobs run, their resident memory (/proc/PID/statm) is read every 20 ms; a
+//   job over `max_memory_bytes` (0 = no limit) is killed and fails like any other, its error
+//   naming the limit. Resident memory, not an rlimit on the address space: thread stacks,
+//   allocator arenas and libraries reserve far more address space than a job uses.
 // - A failing job (non-zero exit, signal) is reported with its error text and the others go
 //   on. The report gets one JSON line per input as it finishes (input, output, status
 //   ok | skipped | failed, exit code, seconds, peak RSS in MiB, error).
@@ -39,7 +41,7 @@ struct BatchOptions {
   std::string output_dir;
   std::string output_extension;             // without the dot: "sdvi", "png", "glb"
   int jobs = 1;
-  uint64_t max_memory_bytes = 0;            // per job; 0 = no limit
+  uint64_t max_memory_bytes = 0;            // resident memory per job; 0 = no limit
   bool skip_existing = true;
   std::string report_path;                  // JSON lines, appended; empty = none
   bool quiet = false;                       // no progress bar, no summary

@@ -114,8 +114,8 @@ CLI::Option* AddInputs(CLI::App* command, std::string& input, const std::string&
                      ->group(group);
   s.memory_opt = command
                      ->add_option("--max-memory-per-job", s.max_memory,
-                                  "address-space limit of each job in bytes, or with a unit: 512M, 2G (0: none); a "
-                                  "job over it fails")
+                                  "resident memory limit of each job in bytes, or with a unit: 512M, 2G (0: none); "
+                                  "a job over it is stopped and fails")
                      ->transform(CLI::AsSizeValue(false))
                      ->type_name("SIZE")
                      ->needs(s.output_dir_opt)

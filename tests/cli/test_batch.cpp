@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The batch runner (cli/batch.h) with a stand-in command: a shell script that copies its
-// input to its output atomically, fails on inputs named *bad*, and allocates 1 GiB on
+// input to its output atomically, fails on inputs named *bad*, and fills 512 MiB on
 // inputs named *huge* (which the per-job memory limit must stop).
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
@@ -33,7 +33,7 @@ struct Fixture {
                              "cmd=\"$1\"; in=\"$2\"; out=\"$4\"; shift 4\n"
                              "case \"$in\" in\n"
                              "  *bad*) echo \"$in: not an image\" >&2; exit 1;;\n"
-                             "  *huge*) exec /usr/bin/python3 -c 'x = bytearray(1 << 30); x[-1] = 1';;\n"
+                             "  *huge*) exec /usr/bin/python3 -c 'x = b\"x\" * (512 << 20)';;\n"
                              "esac\n"
                              "{ cat \"$in\"; echo \"$cmd $*\"; } > \"$out.part\" && mv \"$out.part\" \"$out\"\n";
     fs::permissions(script, fs::perms::owner_all);
@@ -143,7 +143,7 @@ TEST_CASE("the per-job memory limit stops a job that needs more", "[batch]") {
   Fixture f;
   std::ofstream(f.root / "in" / "huge.png") << "big\n";
   f.options.inputs = {(f.root / "in" / "huge.png").string(), (f.root / "in" / "a.png").string()};
-  f.options.max_memory_bytes = uint64_t(256) << 20;
+  f.options.max_memory_bytes = uint64_t(128) << 20;
   auto jobs = sdvi::cli::PlanBatch(f.options);
   REQUIRE(jobs.ok());
   auto summary = sdvi::cli::RunBatch(f.options, *jobs);
@@ -151,6 +151,14 @@ TEST_CASE("the per-job memory limit stops a job that needs more", "[batch]") {
   CHECK(summary->failed == 1);
   CHECK(summary->ok == 1);
   CHECK_FALSE(fs::exists(f.root / "out" / "huge.sdvi"));
+  bool named = false;
+  for (const auto& l : f.Report()) {
+    if (l["status"] == "failed") {
+      CHECK(l["exit_code"].get<int>() > 128);  // a signal
+      named = l["error"].get<std::string>().find("over the memory limit of 128 MiB per job") != std::string::npos;
+    }
+  }
+  CHECK(named);
   // Without the limit the same job succeeds (it exits 0 without writing: python only allocates).
   f.options.max_memory_bytes = 0;
   f.options.inputs = {(f.root / "in" / "huge.png").string()};
