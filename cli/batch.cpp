@@ -177,6 +177,13 @@ StatusOr<BatchSummary> RunBatch(const BatchOptions& options, const std::vector<B
       return Status(StatusCode::kIoError, options.report_path + ": cannot open the report: " + std::strerror(errno));
     }
   }
+  // Each job's stderr goes to a file of its own here, read when it ends (never into the
+  // output directory, where an interrupted batch would leave it).
+  std::string scratch = (fs::temp_directory_path(ec) / "sdvi-batch-XXXXXX").string();
+  if (mkdtemp(scratch.data()) == nullptr) {
+    if (report != nullptr) std::fclose(report);
+    return Status(StatusCode::kIoError, scratch + ": cannot create a scratch directory: " + std::strerror(errno));
+  }
   BatchSummary summary;
   Progress progress(options.quiet);
   progress.Phase(options.command + " " + std::to_string(jobs.size()) + " files");
@@ -211,7 +218,7 @@ StatusOr<BatchSummary> RunBatch(const BatchOptions& options, const std::vector<B
         record(job, "skipped", 0, 0, 0, "");
         continue;
       }
-      const std::string error_file = job.output + ".stderr." + std::to_string(next);
+      const std::string error_file = (fs::path(scratch) / std::to_string(next)).string();
       StatusOr<pid_t> pid = Start(options, job, error_file);
       if (!pid.ok()) {
         batch_error = pid.status();
@@ -262,6 +269,7 @@ StatusOr<BatchSummary> RunBatch(const BatchOptions& options, const std::vector<B
   }
   progress.Done();
   if (report != nullptr) std::fclose(report);
+  fs::remove_all(scratch, ec);
   if (!batch_error.ok()) return batch_error;
   return summary;
 }
