@@ -140,6 +140,10 @@ bool RunBatchIfAsked(CLI::App* command, const std::vector<std::string>& other_ou
   if (s.output_dir_opt->count() == 0) {  // the single-input command
     if (s.inputs.size() > 1) return usage("several inputs need -O DIR (batch mode)");
     if (s.output->count() == 0) return usage("--output is required (or -O DIR for a batch)");
+    std::error_code ec;
+    if (std::filesystem::is_directory(s.inputs.front(), ec)) {
+      return usage(s.inputs.front() + " is a directory: -O DIR converts the files in it");
+    }
     *s.input = s.inputs.front();
     return false;
   }

@@ -174,6 +174,7 @@ expect_files(${WORK}/tight)
 # Usage errors (exit 2), nothing written.
 run_sdvi(2 vectorize ${WORK}/in/a.png ${WORK}/in/b.png -o ${WORK}/x.sdvi)  # several inputs need -O
 run_sdvi(2 vectorize ${WORK}/in/a.png)                                     # neither -o nor -O
+run_sdvi(2 vectorize ${WORK}/in -o ${WORK}/x.sdvi)                         # a directory needs -O
 run_sdvi(2 vectorize ${WORK}/in -O ${WORK}/bad -o ${WORK}/x.sdvi)          # -o and -O
 run_sdvi(2 vectorize ${WORK}/in/a.png -o ${WORK}/x.sdvi -j 2)              # -j without -O
 run_sdvi(2 vectorize ${WORK}/in/a.png -o ${WORK}/x.sdvi --overwrite)
