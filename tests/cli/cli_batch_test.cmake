@@ -8,6 +8,7 @@
 #   - a rerun skips the finished outputs; without the broken file it skips everything and
 #     exits 0; --overwrite redoes them;
 #   - render (a glob), compress, decompress, export-gltf, export-pdf: the same bytes as single runs;
+#   - on a terminal, one progress bar over the files (none with --quiet);
 #   - a per-job memory limit too small for any job fails every job (exit 1);
 #   - usage errors exit 2 and write nothing.
 cmake_minimum_required(VERSION 3.25)
@@ -128,6 +129,23 @@ file(WRITE ${WORK}/out2/a.sdvi "stale")
 run_sdvi(0 vectorize ${WORK}/in -O ${WORK}/out2 -j 2 ${opts} --overwrite --batch-report ${WORK}/over.jsonl --quiet)
 expect_report(${WORK}/over.jsonl a=ok b=ok c=ok)
 expect_same(${WORK}/out2/a.sdvi ${WORK}/a_single.sdvi)
+
+# On a terminal (script(1) gives the batch a pseudo-terminal): one progress bar over the
+# files, none of the jobs' own bars; --quiet: none at all.
+string(REPLACE ";" " " opts_text "${opts}")
+foreach(quiet "" "--quiet")
+  execute_process(COMMAND script -qec "${SDVI} vectorize ${WORK}/in -O ${WORK}/tty${quiet} -j 2 ${opts_text} ${quiet}" /dev/null
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE tty)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "batch on a terminal: exit ${rc}\n${tty}")
+  endif()
+  string(REGEX MATCHALL "vectorize 3 files done" bars "${tty}")
+  list(LENGTH bars n)
+  if((quiet STREQUAL "" AND NOT n EQUAL 1) OR (quiet STREQUAL "--quiet" AND NOT tty STREQUAL "")
+     OR tty MATCHES "triangulate|features")
+    message(FATAL_ERROR "batch ${quiet} on a terminal printed:\n${tty}")
+  endif()
+endforeach()
 
 # The other commands: a batch writes what the single command writes.
 run_sdvi(0 render "${WORK}/out2/*.sdvi" -O ${WORK}/png --scale 2 -j 2 --quiet)
