@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
 # Hostile SVG inputs through `sdvi import-svg` (spec/SVG.md, "Safety"; issue 10, must show
-# 4): each file is generated here, the command must exit 1 with its [error name] and write
+# 4, and what else was found): each file is generated here, the command must exit 1 with its [error name] and write
 # no file; the table gives CPU seconds (user + sys, which a loaded machine does not
 # inflate), wall seconds and peak RSS. `sdvi -V` alone is the first row: what starting the
 # process costs.
@@ -42,6 +42,16 @@ cases = {
     'css_escape': svg('<path d="M0 0h9" style="stroke-d\\61sharray:1"/>'),
     'nested_svg': svg('<image width="9" height="9" href="data:image/svg+xml;base64,PHN2Zy8+"/>'),
 }
+# A PNG declaring 20000 x 20000 grey pixels, all zero: 389 KB, 1.6 GB once decoded.
+import base64, struct, zlib
+def chunk(kind, data):
+    return struct.pack('>I', len(data)) + kind + data + struct.pack('>I', zlib.crc32(kind + data))
+z = zlib.compressobj(9)
+rows = b''.join(z.compress(b'\0' * 20001) for _ in range(20000)) + z.flush()
+png = (b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', struct.pack('>IIBBBBB', 20000, 20000, 8, 0, 0, 0, 0)) +
+       chunk(b'IDAT', rows) + chunk(b'IEND', b''))
+cases['image_bomb'] = svg('<image width="64" height="64" href="data:image/png;base64,' +
+                          base64.b64encode(png).decode() + '"/>')
 for name, text in cases.items():
     open(d + '/' + name + '.svg', 'w').write(text)
 EOF
@@ -61,6 +71,6 @@ row() {  # name, then the command
 }
 row "sdvi -V" "$SDVI" -V
 for f in billion_laughs external_entity xinclude elements_1e6 nested_1e4 path_1e7 width_1e9 use_self \
-         malformed bad_path far_dashes hidden_dashes css_escape nested_svg; do
+         malformed bad_path far_dashes hidden_dashes css_escape nested_svg image_bomb; do
   row "$f" "$SDVI" import-svg "$DIR/$f.svg" -o "$DIR/$f.sdvi"
 done

@@ -354,6 +354,23 @@ TEST_CASE("svg: data: URLs other than raster images are refused", "[svg][hostile
   CHECK(ok.ok());
 }
 
+TEST_CASE("svg: an embedded image declaring a huge size is refused before it is decoded", "[svg][hostile]") {
+  // A PNG (written for this test) whose header declares 20000 x 20000 grey pixels: decoding
+  // it would take 400 MB (1.6 GB as librsvg's RGBA); the size is read from the header.
+  const std::string huge = "iVBORw0KGgoAAAANSUhEUgAATiAAAE4gCAAAAADGGxnlAAAAPUlEQVR4nO3BMQEAAADCoPVP7WkJoAAAAAAAAAAAAAAAAAAAAA"
+                           "AAAAAAAAAAAAAAAAAAAAAAAAAAAAAAgBucQgABievriwAAAABJRU5ErkJggg==";
+  ExpectRefused(Load(Svg("<image width=\"9\" height=\"9\" href=\"data:image/png;base64," + huge + "\"/>")),
+                SvgError::kSizeTooLarge, StatusCode::kLimitExceeded, "max_dimension");
+  // The same header at 2 x 2 passes, and librsvg draws it.
+  const std::string small = "iVBORw0KGgoAAAANSUhEUgAAAAIAAAACCAAAAABX3VL4AAAAC0lEQVR4nGNgAAEAAAYAAf6MZ8gAAAAASUVORK5CYII=";
+  auto ok = sdvi::LoadSvg(Svg("<image width=\"64\" height=\"64\" href=\"data:image/png;base64," + small + "\"/>"),
+                          "ok.svg", {});
+  REQUIRE(ok.ok());
+  auto raster = sdvi::RenderSvg(*ok, 64, 64);
+  REQUIRE(raster.ok());
+  CHECK(raster->at(32, 32, 3) == Approx(1.0f));
+}
+
 TEST_CASE("svg: valid path data of every command passes the check", "[svg]") {
   const std::string d = "M10,10 L20 20 H30 V40 C 1 2 3 4 5 6 S 1 2 3 4 Q 1 2 3 4 T 5 6 A 5 5 30 1 0 15 15 "
                         "a5,5,0,0,1,1,1 m 1 1 l 1 1 2 2 h 1 v 1 c 1 2 3 4 5 6 s 1 2 3 4 q 1 2 3 4 t 1 1 z "
@@ -381,6 +398,9 @@ TEST_CASE("svg: the command refuses hostile files without writing output", "[svg
       {"dashes", FarPath("2 2")},
       {"css", Svg("<path d=\"M0 0h9\" style=\"stroke-d\\61sharray:1\"/>")},
       {"nested", Svg("<image width=\"9\" height=\"9\" href=\"data:image/svg+xml;base64,PHN2Zy8+\"/>")},
+      {"image", Svg("<image width=\"9\" height=\"9\" href=\"data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAATiAAAE4g"
+                    "CAAAAADGGxnlAAAAPUlEQVR4nO3BMQEAAADCoPVP7WkJoAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAgBuc"
+                    "QgABievriwAAAABJRU5ErkJggg==\"/>")},
   };
   for (const auto& [tag, bytes] : cases) {
     bool wrote = true;

@@ -473,11 +473,14 @@ void OnStartElement(void* ctx, const xmlChar* localname, const xmlChar*, const x
     const std::string attr = Str(at[0]);
     const std::string value(reinterpret_cast<const char*>(at[3]), size_t(at[4] - at[3]));
     std::string bad;
-    if (FindNoCase(value, "data:") != std::string::npos && !AllowedDataUrl(attr, value)) {
-      return st->Fail(SvgError::kNestedDocument,
-                      "line " + std::to_string(line) + ": <" + local + "> " + attr +
-                          " holds a data: URL that is not a PNG, JPEG, GIF or WebP image; other embedded "
-                          "documents are not accepted");
+    if (FindNoCase(value, "data:") != std::string::npos) {
+      if (!AllowedDataUrl(attr, value)) {
+        return st->Fail(SvgError::kNestedDocument,
+                        "line " + std::to_string(line) + ": <" + local + "> " + attr +
+                            " holds a data: URL that is not a PNG, JPEG, GIF or WebP image; other embedded "
+                            "documents are not accepted");
+      }
+      st->check->images.push_back({line, value});
     }
     if (attr == "style") {
       CheckCss(st, value, "line " + std::to_string(line));

@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Loading (check + librsvg), the output size and the reference raster.
+#include <gdk-pixbuf/gdk-pixbuf.h>
 #include <librsvg/rsvg.h>
 
 #include <cairo.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -43,10 +45,64 @@ Status RenderWithRsvg(const SvgDocument& document, cairo_t* cr, int width, int h
   return Status::Ok();
 }
 
+namespace {
+
+void OnSizePrepared(GdkPixbufLoader* loader, gint width, gint height, gpointer data) {
+  auto* size = static_cast<std::pair<int, int>*>(data);
+  *size = {width, height};
+  gdk_pixbuf_loader_set_size(loader, 0, 0);  // decode nothing (as gdk_pixbuf_get_file_info)
+}
+
+// The size a raster image in a data: URL declares, read by gdk-pixbuf (librsvg's decoder)
+// from its header before anything is decoded; {0, 0} when it has none.
+std::pair<int, int> DataImageSize(const std::string& url) {
+  const size_t comma = url.find(',');
+  if (comma == std::string::npos) return {0, 0};
+  const std::string header = url.substr(0, comma);
+  std::string payload;
+  if (header.size() >= 7 && header.compare(header.size() - 7, 7, ";base64") == 0) {
+    gsize length = 0;
+    guchar* decoded = g_base64_decode(url.c_str() + comma + 1, &length);
+    if (decoded != nullptr) payload.assign(reinterpret_cast<const char*>(decoded), length);
+    g_free(decoded);
+  } else {
+    GBytes* bytes = g_uri_unescape_bytes(url.c_str() + comma + 1, -1, nullptr, nullptr);
+    if (bytes != nullptr) {
+      gsize length = 0;
+      const char* data = static_cast<const char*>(g_bytes_get_data(bytes, &length));
+      payload.assign(data, length);
+      g_bytes_unref(bytes);
+    }
+  }
+  std::pair<int, int> size{0, 0};
+  GdkPixbufLoader* loader = gdk_pixbuf_loader_new();
+  g_signal_connect(loader, "size-prepared", G_CALLBACK(OnSizePrepared), &size);
+  // Fed in small pieces, stopping once the header gave the size: nothing is decoded beyond it.
+  for (size_t at = 0; at < payload.size() && size.first == 0; at += 4096) {
+    const size_t n = std::min<size_t>(4096, payload.size() - at);
+    if (!gdk_pixbuf_loader_write(loader, reinterpret_cast<const guchar*>(payload.data() + at), n, nullptr)) break;
+  }
+  gdk_pixbuf_loader_close(loader, nullptr);
+  g_object_unref(loader);
+  return size;
+}
+
+}  // namespace
+
 StatusOr<SvgDocument> LoadSvg(std::string bytes, const std::string& name, const SvgLimits& limits,
                               SvgError* error) {
   SvgCheck check;
   SDVI_RETURN_IF_ERROR(CheckSvg(bytes, name, limits, &check, error));
+  for (const SvgCheck::Image& image : check.images) {
+    const auto [w, h] = DataImageSize(image.url);
+    if (w > limits.max_dimension || h > limits.max_dimension || double(w) * h > double(limits.max_pixels)) {
+      return SvgFailure(SvgError::kSizeTooLarge, name,
+                        "line " + std::to_string(image.line) + ": an embedded image of " + std::to_string(w) + " x " +
+                            std::to_string(h) + " px exceeds the limit of " + std::to_string(limits.max_dimension) +
+                            " px a side / " + std::to_string(limits.max_pixels) + " pixels (max_dimension, max_pixels)",
+                        error);
+    }
+  }
   SvgDocument document;
   document.name = name;
   document.bytes = std::move(bytes);

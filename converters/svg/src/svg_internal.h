@@ -19,6 +19,11 @@ struct SvgCheck {
   std::vector<std::string> warnings;     // references that are not loaded
   double shortest_dash = 0;              // SvgDocument::shortest_dash
   bool flat_shapes = false;              // a line, or a path/polyline/polygon without area
+  struct Image {
+    int line = 0;
+    std::string url;  // data:image/...
+  };
+  std::vector<Image> images;             // raster images in data: URLs (sizes checked by LoadSvg)
 };
 
 // The mean dash + gap length of a stroke-dasharray value in user units (relative units
