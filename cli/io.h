@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Reading and writing .sdvi files for the CLI: every reader reads both payloads
 // (raw and Draco-compressed).
 #pragma once

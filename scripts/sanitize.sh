@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The sanitizer pass of the test suite: unit-test executables built with GCC's
 # AddressSanitizer + UndefinedBehaviorSanitizer (-O1; the first error ends the run, leaks
 # included) in their own build directory, each Catch2 executable run whole.
