@@ -22,8 +22,8 @@ struct CommandSetup {
   const std::string* output = nullptr;  // -o (AddOutput)
 };
 std::map<const CLI::App*, CommandSetup>& Setup() {
-  static std::map<const CLI::App*, CommandSetup> roles;
-  return roles;
+  static std::map<const CLI::App*, CommandSetup> setups;
+  return setups;
 }
 
 std::string Mebibytes(uint64_t bytes) { return std::to_string(bytes >> 20) + " MiB"; }
