@@ -41,12 +41,7 @@ int ExportGltf(const ExportGltfArgs& a) {
   GltfExportOptions options = a.options;
   options.progress = &progress;
   auto exported = WriteGltf(a.output, *image, options);
-  if (!exported.ok()) {
-    // Write errors name the output already; the others concern the input image.
-    const Status& status = exported.status();
-    if (status.code() == StatusCode::kIoError) return ReportError(kCommand, status);
-    return ReportError(kCommand, Status(status.code(), a.input + ": " + status.message()));
-  }
+  if (!exported.ok()) return ReportError(kCommand, ExportError(exported.status(), a.input));
   if (a.json) {
     nlohmann::ordered_json j;
     j["output"] = a.output;

@@ -35,12 +35,7 @@ int ExportPdf(const ExportPdfArgs& a) {
   PdfExportOptions options = a.options;
   options.progress = &progress;
   auto exported = WritePdf(a.output, *image, options);
-  if (!exported.ok()) {
-    // Write errors name the output already; the others concern the input image.
-    const Status& status = exported.status();
-    if (status.code() == StatusCode::kIoError) return ReportError(kCommand, status);
-    return ReportError(kCommand, Status(status.code(), a.input + ": " + status.message()));
-  }
+  if (!exported.ok()) return ReportError(kCommand, ExportError(exported.status(), a.input));
   if (a.json) {
     nlohmann::ordered_json j;
     j["output"] = a.output;

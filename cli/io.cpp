@@ -11,4 +11,9 @@ Status SaveSdvi(const std::string& path, const Image& image) {
   return WriteImage(path, image, /*compress=*/nullptr);
 }
 
+Status ExportError(const Status& status, const std::string& input) {
+  if (status.code() == StatusCode::kIoError) return status;
+  return Status(status.code(), input + ": " + status.message());
+}
+
 }  // namespace sdvi::cli

@@ -14,5 +14,8 @@ namespace sdvi::cli {
 StatusOr<Image> LoadSdvi(const std::string& path);
 // Writes image as a raw-payload .sdvi file, atomically.
 Status SaveSdvi(const std::string& path, const Image& image);
+// An export's error as the user should read it: a write error names the output already;
+// any other concerns the input image, which it names.
+Status ExportError(const Status& status, const std::string& input);
 
 }  // namespace sdvi::cli
