@@ -143,17 +143,28 @@ int Render(const RenderArgs& a) {
   Progress progress(a.quiet || a.json);  // on a terminal only
   options.progress = &progress;
   const auto start = std::chrono::steady_clock::now();
-  auto rendered = Render(*image, options);
-  if (!rendered.ok()) return ReportError(cmd, Status(rendered.status().code(), a.input + ": " + rendered.status().message()));
+  // An 8-bit PNG is rendered straight into 8-bit samples (no float raster); 16-bit PNG,
+  // EXR and the overlay take the float render (spec/METHOD.md section 4, item 5).
+  const bool eight_bit = ext == "png" && a.bits == 8 && a.overlay.empty();
+  StatusOr<Raster> rendered = Raster();
+  StatusOr<Raster8> rendered8 = Raster8();
+  if (eight_bit)
+    rendered8 = Render8(*image, options);
+  else
+    rendered = Render(*image, options);
+  const Status render_status = eight_bit ? rendered8.status() : rendered.status();
+  if (!render_status.ok()) return ReportError(cmd, Status(render_status.code(), a.input + ": " + render_status.message()));
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  // Alpha only where the surface does not cover the output; grey when R = G = B everywhere.
-  if (a.overlay == "features") *rendered = DrawFeatureOverlay(*rendered, *image, *vp);
-  const Raster raster = WithNeededChannels(*rendered);
 
   Status written;
-  if (ext == "png") {
-    written = SaveRasterPng(a.output, raster, a.bits);
+  if (eight_bit) {
+    // Alpha only where the surface does not cover the output; grey when R = G = B everywhere.
+    written = SaveRasterPng(a.output, WithNeededChannels(*rendered8));
+  } else if (ext == "png") {
+    if (a.overlay == "features") *rendered = DrawFeatureOverlay(*rendered, *image, *vp);
+    written = SaveRasterPng(a.output, WithNeededChannels(*rendered), a.bits);
   } else {
+    const Raster raster = WithNeededChannels(*rendered);
     ExrWriteOptions exr;
     exr.half = a.half;
     if (!a.region.empty()) {

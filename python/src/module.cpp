@@ -254,9 +254,14 @@ py::object RenderPy(const ImageSource& source, std::optional<std::string> output
   Raster raster;
   {
     py::gil_scoped_release release;
-    raster = Take(Render(image, options));
-    // The file holds what `sdvi render` writes: only the channels needed (RGB stays RGB).
-    if (output) Check(SaveRasterPng(*output, WithNeededChannels(raster), bits));
+    // The file holds what `sdvi render` writes: an 8-bit PNG from the 8-bit render, only the
+    // channels needed (RGB stays RGB).
+    if (output && bits == 8) {
+      Check(SaveRasterPng(*output, WithNeededChannels(Take(Render8(image, options)))));
+    } else {
+      raster = Take(Render(image, options));
+      if (output) Check(SaveRasterPng(*output, WithNeededChannels(raster), bits));
+    }
   }
   if (output) return py::none();
   return ArrayFromRaster(raster);

@@ -320,14 +320,79 @@ StatusOr<Raster> LoadRaster(const std::string& path, RasterSource* source) {
   return DecodeRaster(bytes, path, source);
 }
 
+namespace {
+
+// The PNG of samples (8- or 16-bit, interleaved, channels as the raster has them).
+StatusOr<std::vector<uint8_t>> EncodePngSamples(int width, int height, int ch, bool has_alpha, int bits,
+                                                const void* data, const std::string& name) {
+  const OIIO::TypeDesc type = bits == 8 ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::UINT16;
+  OIIO::ImageSpec spec(width, height, ch, type);
+  spec.alpha_channel = has_alpha ? ch - 1 : -1;
+  spec.attribute("oiio:ColorSpace", "sRGB");  // -> sRGB, gAMA and cHRM chunks
+  spec.attribute("oiio:UnassociatedAlpha", 1);  // the samples are straight: write them as they are
+  std::vector<uint8_t> encoded;
+  try {
+    OIIO::Filesystem::IOVecOutput writer(encoded);
+    std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create("png");
+    if (!out) return Status(StatusCode::kEncodeFailed, name + ": no PNG writer: " + OIIO::geterror());
+    out->set_ioproxy(&writer);
+    if (!out->open("out.png", spec) || !out->write_image(type, data) || !out->close())
+      return Status(StatusCode::kEncodeFailed, name + ": PNG encoding failed: " + out->geterror());
+  } catch (const std::exception& e) {
+    return Status(StatusCode::kEncodeFailed, name + ": PNG encoding failed: " + e.what());
+  }
+  return encoded;
+}
+
+// Which channels an output needs (see WithNeededChannels): alpha unless every pixel is
+// opaque, and colour unless every pixel is grey.
+struct NeededChannels {
+  bool keep_alpha, colours;
+};
+template <typename RasterT>
+NeededChannels FindNeededChannels(const RasterT& raster, decltype(raster.data[0]) opaque_value) {
+  const int ch = raster.channels;
+  const size_t n = size_t(raster.width) * raster.height;
+  bool opaque = raster.has_alpha(), grey = ch >= 3;
+  for (size_t p = 0; p < n && (opaque || grey); ++p) {
+    const auto* s = &raster.data[p * ch];
+    if (raster.has_alpha() && s[ch - 1] != opaque_value) opaque = false;
+    if (ch >= 3 && (s[0] != s[1] || s[0] != s[2])) grey = false;
+  }
+  return {raster.has_alpha() && !opaque, ch >= 3 && !grey};
+}
+
+// raster with the channels needed.
+template <typename RasterT>
+RasterT KeepChannels(const RasterT& raster, NeededChannels needed) {
+  const int ch = raster.channels;
+  const size_t n = size_t(raster.width) * raster.height;
+  const int colours = ch >= 3 ? 3 : 1, out_colours = needed.colours ? 3 : 1;
+  if (out_colours == colours && needed.keep_alpha == raster.has_alpha()) return raster;
+  RasterT out(raster.width, raster.height, out_colours + (needed.keep_alpha ? 1 : 0));
+  for (size_t p = 0; p < n; ++p) {
+    const auto* s = &raster.data[p * ch];
+    auto* d = &out.data[p * out.channels];
+    std::copy_n(s, out_colours, d);
+    if (needed.keep_alpha) d[out_colours] = s[ch - 1];
+  }
+  return out;
+}
+
+Status CheckRasterToEncode(int width, int height, int channels, size_t samples, const std::string& name) {
+  if (width <= 0 || height <= 0) return Status(StatusCode::kEmptyInput, name + ": the raster to write is empty");
+  if (channels < 1 || channels > 4 || samples != size_t(width) * height * channels)
+    return Status(StatusCode::kInvalidArgument, name + ": raster has " + std::to_string(channels) +
+                                                    " channels and " + std::to_string(samples) + " samples");
+  return Status::Ok();
+}
+
+}  // namespace
+
 StatusOr<std::vector<uint8_t>> EncodePng(const Raster& raster, int bits, const std::string& name) {
   if (bits != 8 && bits != 16)
     return Status(StatusCode::kInvalidArgument, name + ": PNG bit depth " + std::to_string(bits) + " (8 or 16 expected)");
-  if (raster.empty()) return Status(StatusCode::kEmptyInput, name + ": the raster to write is empty");
-  if (raster.channels < 1 || raster.channels > 4 ||
-      raster.data.size() != size_t(raster.width) * raster.height * raster.channels)
-    return Status(StatusCode::kInvalidArgument, name + ": raster has " + std::to_string(raster.channels) +
-                                                    " channels and " + std::to_string(raster.data.size()) + " samples");
+  SDVI_RETURN_IF_ERROR(CheckRasterToEncode(raster.width, raster.height, raster.channels, raster.data.size(), name));
   const int ch = raster.channels;
   const double max = bits == 8 ? 255.0 : 65535.0;
   auto quantise = [max](double v, double unit) {
@@ -345,24 +410,14 @@ StatusOr<std::vector<uint8_t>> EncodePng(const Raster& raster, int bits, const s
     else
       wide[i] = uint16_t(q);
   }
-  const OIIO::TypeDesc type = bits == 8 ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::UINT16;
-  OIIO::ImageSpec spec(raster.width, raster.height, ch, type);
-  spec.alpha_channel = raster.has_alpha() ? ch - 1 : -1;
-  spec.attribute("oiio:ColorSpace", "sRGB");  // -> sRGB, gAMA and cHRM chunks
-  spec.attribute("oiio:UnassociatedAlpha", 1);  // the samples are straight: write them as they are
-  std::vector<uint8_t> encoded;
-  try {
-    OIIO::Filesystem::IOVecOutput writer(encoded);
-    std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create("png");
-    if (!out) return Status(StatusCode::kEncodeFailed, name + ": no PNG writer: " + OIIO::geterror());
-    out->set_ioproxy(&writer);
-    const void* data = bits == 8 ? static_cast<const void*>(narrow.data()) : static_cast<const void*>(wide.data());
-    if (!out->open("out.png", spec) || !out->write_image(type, data) || !out->close())
-      return Status(StatusCode::kEncodeFailed, name + ": PNG encoding failed: " + out->geterror());
-  } catch (const std::exception& e) {
-    return Status(StatusCode::kEncodeFailed, name + ": PNG encoding failed: " + e.what());
-  }
-  return encoded;
+  const void* data = bits == 8 ? static_cast<const void*>(narrow.data()) : static_cast<const void*>(wide.data());
+  return EncodePngSamples(raster.width, raster.height, ch, raster.has_alpha(), bits, data, name);
+}
+
+StatusOr<std::vector<uint8_t>> EncodePng(const Raster8& raster, const std::string& name) {
+  SDVI_RETURN_IF_ERROR(CheckRasterToEncode(raster.width, raster.height, raster.channels, raster.data.size(), name));
+  return EncodePngSamples(raster.width, raster.height, raster.channels, raster.has_alpha(), 8, raster.data.data(),
+                          name);
 }
 
 Status SaveRasterPng(const std::string& path, const Raster& raster, int bits) {
@@ -370,26 +425,17 @@ Status SaveRasterPng(const std::string& path, const Raster& raster, int bits) {
   return WriteFileAtomic(path, encoded);
 }
 
+Status SaveRasterPng(const std::string& path, const Raster8& raster) {
+  SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> encoded, EncodePng(raster, path));
+  return WriteFileAtomic(path, encoded);
+}
+
 Raster WithNeededChannels(const Raster& raster) {
-  const int ch = raster.channels;
-  const size_t n = size_t(raster.width) * raster.height;
-  bool opaque = raster.has_alpha(), grey = ch >= 3;
-  for (size_t p = 0; p < n && (opaque || grey); ++p) {
-    const float* s = &raster.data[p * ch];
-    if (raster.has_alpha() && s[ch - 1] != 1.0f) opaque = false;
-    if (ch >= 3 && (s[0] != s[1] || s[0] != s[2])) grey = false;
-  }
-  const int colours = ch >= 3 ? 3 : 1, out_colours = grey ? 1 : colours;
-  const bool keep_alpha = raster.has_alpha() && !opaque;
-  if (out_colours == colours && keep_alpha == raster.has_alpha()) return raster;
-  Raster out(raster.width, raster.height, out_colours + (keep_alpha ? 1 : 0));
-  for (size_t p = 0; p < n; ++p) {
-    const float* s = &raster.data[p * ch];
-    float* d = &out.data[p * out.channels];
-    std::copy_n(s, out_colours, d);
-    if (keep_alpha) d[out_colours] = s[ch - 1];
-  }
-  return out;
+  return KeepChannels(raster, FindNeededChannels(raster, 1.0f));
+}
+
+Raster8 WithNeededChannels(const Raster8& raster) {
+  return KeepChannels(raster, FindNeededChannels(raster, uint8_t(255)));
 }
 
 }  // namespace sdvi

@@ -31,6 +31,7 @@ void AssignZeroedLarge(std::vector<T>& v, size_t n) {
   v.resize(n);  // value-initialised: zero
 }
 template void AssignZeroedLarge<float>(std::vector<float>&, size_t);
+template void AssignZeroedLarge<uint8_t>(std::vector<uint8_t>&, size_t);
 
 std::vector<FixedPoint> ToFixedAll(const std::vector<Vertex>& fine, const Viewport& vp, int threads) {
   std::vector<FixedPoint> out(fine.size());
@@ -109,9 +110,44 @@ namespace {
 
 inline float Clamp255(double v) { return float(v < 0 ? 0 : v > 255 ? 255 : v); }
 
+// The PNG writer's rule on a value already in 0..255 (a float, so exact in double): round,
+// halves away from zero.
+inline uint8_t Round8(float v) { return uint8_t(int(double(v) + 0.5)); }
+
+// Pixel stores of the two outputs: float RGBA (alpha 0..1) and 8-bit RGBA (alpha 0..255,
+// quantised as Render8 says). Owned(p) is true once a triangle has drawn the pixel; before
+// the domain-edge pass only drawn pixels have a non-zero alpha.
+struct FloatPixels {
+  using Sample = float;
+  static bool Owned(const float* p) { return p[3] != 0; }
+  static void Draw(float* p, double r, double g, double b) {
+    p[0] = Clamp255(r), p[1] = Clamp255(g), p[2] = Clamp255(b);
+    p[3] = 1.0f;
+  }
+  static void SetColour(float* p, float r, float g, float b) {
+    p[0] = Clamp255(r), p[1] = Clamp255(g), p[2] = Clamp255(b);
+  }
+  static void SetAlpha(float* p, float a) { p[3] = a; }
+};
+struct BytePixels {
+  using Sample = uint8_t;
+  static bool Owned(const uint8_t* p) { return p[3] != 0; }
+  static void Draw(uint8_t* p, double r, double g, double b) {
+    p[0] = Round8(Clamp255(r)), p[1] = Round8(Clamp255(g)), p[2] = Round8(Clamp255(b));
+    p[3] = 255;
+  }
+  static void SetColour(uint8_t* p, float r, float g, float b) {
+    p[0] = Round8(Clamp255(r)), p[1] = Round8(Clamp255(g)), p[2] = Round8(Clamp255(b));
+  }
+  static void SetAlpha(uint8_t* p, float a) {
+    p[3] = uint8_t(std::round(std::clamp(double(a) * 255.0, 0.0, 255.0)));
+  }
+};
+
 // Domain-edge coverage: see RenderFineMesh in sdvi/render.h.
+template <typename Pixels>
 void AntialiasBoundary(const std::vector<Edge>& boundary, const std::vector<Vertex>& fine,
-                       const Viewport& vp, Raster& out) {
+                       const Viewport& vp, typename Pixels::Sample* data) {
   struct Candidate {
     uint32_t pixel;
     float distance;
@@ -152,28 +188,24 @@ void AntialiasBoundary(const std::vector<Edge>& boundary, const std::vector<Vert
   for (size_t k = 0; k < cand.size(); ++k) {
     if (k > 0 && cand[k].pixel == cand[k - 1].pixel) continue;  // nearest edge only
     const Candidate& c = cand[k];
-    float* px = &out.data[size_t(c.pixel) * 4];
-    if (px[3] > 0) {
-      px[3] = std::min(1.0f, 0.5f + c.distance);
+    auto* px = data + size_t(c.pixel) * 4;
+    if (Pixels::Owned(px)) {
+      Pixels::SetAlpha(px, std::min(1.0f, 0.5f + c.distance));
     } else {
-      px[0] = Clamp255(c.r), px[1] = Clamp255(c.g), px[2] = Clamp255(c.b);
-      px[3] = std::max(0.0f, 0.5f - c.distance);
+      Pixels::SetColour(px, c.r, c.g, c.b);
+      Pixels::SetAlpha(px, std::max(0.0f, 0.5f - c.distance));
     }
   }
 }
 
-}  // namespace
-
-Raster RenderFineMesh(const std::vector<Triangle>& triangles, const std::vector<Vertex>& fine,
-                      const Viewport& viewport, const std::vector<Edge>* boundary, int threads) {
-  if (!ValidViewport(viewport)) return Raster();
-  Raster out;
-  out.width = viewport.width, out.height = viewport.height, out.channels = 4;
-  AssignZeroedLarge(out.data, size_t(viewport.width) * viewport.height * 4);
+// Draws the fine triangles into data (zeroed RGBA, viewport size) in row bands, then the
+// domain-edge coverage: the body of RenderFineMesh and RenderFineMesh8.
+template <typename Pixels>
+void DrawFineMesh(const std::vector<Triangle>& triangles, const std::vector<Vertex>& fine, const Viewport& viewport,
+                  const std::vector<Edge>* boundary, int threads, typename Pixels::Sample* data) {
   const std::vector<FixedPoint> pts = ToFixedAll(fine, viewport, threads);
   const uint32_t nv = uint32_t(fine.size());
   const int width = viewport.width;
-  float* data = out.data.data();
   ForEachRowBand(viewport.height, threads, [&](int, int row0, int row1) {
     TriangleSetup s;
     for (uint32_t t = 0; t < triangles.size(); ++t) {
@@ -197,16 +229,36 @@ Raster RenderFineMesh(const std::vector<Triangle>& triangles, const std::vector<
         double r = w0 * cv[0]->r + w1 * cv[1]->r + w2 * cv[2]->r;
         double g = w0 * cv[0]->g + w1 * cv[1]->g + w2 * cv[2]->g;
         double b = w0 * cv[0]->b + w1 * cv[1]->b + w2 * cv[2]->b;
-        float* px = data + (size_t(j) * width + i_begin) * 4;
+        auto* px = data + (size_t(j) * width + i_begin) * 4;
         for (int i = i_begin; i <= i_end; ++i, px += 4, r += step[0], g += step[1], b += step[2]) {
-          if (px[3] != 0) continue;  // lowest fine triangle index wins
-          px[0] = Clamp255(r), px[1] = Clamp255(g), px[2] = Clamp255(b);
-          px[3] = 1.0f;
+          if (Pixels::Owned(px)) continue;  // lowest fine triangle index wins
+          Pixels::Draw(px, r, g, b);
         }
       });
     }
   });
-  if (boundary) AntialiasBoundary(*boundary, fine, viewport, out);
+  if (boundary) AntialiasBoundary<Pixels>(*boundary, fine, viewport, data);
+}
+
+}  // namespace
+
+Raster RenderFineMesh(const std::vector<Triangle>& triangles, const std::vector<Vertex>& fine,
+                      const Viewport& viewport, const std::vector<Edge>* boundary, int threads) {
+  if (!ValidViewport(viewport)) return Raster();
+  Raster out;
+  out.width = viewport.width, out.height = viewport.height, out.channels = 4;
+  AssignZeroedLarge(out.data, size_t(viewport.width) * viewport.height * 4);
+  DrawFineMesh<FloatPixels>(triangles, fine, viewport, boundary, threads, out.data.data());
+  return out;
+}
+
+Raster8 RenderFineMesh8(const std::vector<Triangle>& triangles, const std::vector<Vertex>& fine,
+                        const Viewport& viewport, const std::vector<Edge>* boundary, int threads) {
+  if (!ValidViewport(viewport)) return Raster8();
+  Raster8 out;
+  out.width = viewport.width, out.height = viewport.height, out.channels = 4;
+  AssignZeroedLarge(out.data, size_t(viewport.width) * viewport.height * 4);
+  DrawFineMesh<BytePixels>(triangles, fine, viewport, boundary, threads, out.data.data());
   return out;
 }
 

@@ -110,7 +110,17 @@ std::vector<uint32_t> ControlTrianglesInViewport(const Image& image, const Viewp
   return out;
 }
 
-StatusOr<Raster> Render(const Image& image, const RenderOptions& options) {
+namespace {
+
+// What Render scan-converts: the fine mesh of the limit surface over the viewport's region
+// (none when no control triangle reaches the viewport) and its domain edge.
+struct ViewportSurface {
+  bool empty = true;
+  RefinedMesh surface;
+  std::vector<Edge> boundary;
+};
+
+StatusOr<ViewportSurface> SurfaceForViewport(const Image& image, const RenderOptions& options) {
   const Viewport& vp = options.viewport;
   SDVI_RETURN_IF_ERROR(CheckViewport(vp));
   if (image.vertices.empty() || image.triangles.empty())
@@ -126,8 +136,9 @@ StatusOr<Raster> Render(const Image& image, const RenderOptions& options) {
   if (options.levels > kMaxLevels)
     return Status(StatusCode::kInvalidArgument, "render: --levels " + std::to_string(options.levels) +
                                                     " is above the maximum " + std::to_string(kMaxLevels));
+  ViewportSurface out;
   std::vector<uint32_t> region = ControlTrianglesInViewport(image, vp, kRegionMarginPx);
-  if (region.empty()) return Raster(vp.width, vp.height, 4);  // nothing reaches the viewport
+  if (region.empty()) return out;  // nothing reaches the viewport
   const int levels =
       options.levels >= 0 ? options.levels : LevelWithinBudget(LevelForScale(image, options), region.size());
   const double fine_estimate = double(region.size()) * std::pow(4.0, levels);
@@ -139,23 +150,44 @@ StatusOr<Raster> Render(const Image& image, const RenderOptions& options) {
   lso.levels = levels;
   lso.to_limit = true;
   lso.max_fine_triangles = uint64_t(kMaxFineTriangles);
+  lso.threads = options.threads;
   if (region.size() < image.triangles.size()) lso.control_triangles = std::move(region);
 
   // One evaluation of this topology: direct refinement is cheaper than building stencils.
   if (options.progress) options.progress->Phase("subdivide (level " + std::to_string(levels) + ")");
-  SDVI_ASSIGN_OR_RETURN(RefinedMesh surface, RefineImage(image, lso));
-  const std::vector<Vertex>& fine = surface.vertices;
-  for (const Vertex& v : fine) {
+  SDVI_ASSIGN_OR_RETURN(out.surface, RefineImage(image, lso));
+  for (const Vertex& v : out.surface.vertices) {
     const double ox = (double(v.x) - vp.origin_x) * vp.scale_x, oy = (double(v.y) - vp.origin_y) * vp.scale_y;
     if (!(std::abs(ox) <= kMaxOutputCoord && std::abs(oy) <= kMaxOutputCoord))
       return Status(StatusCode::kLimitExceeded,
                     "render: a surface point maps to output pixel (" + std::to_string(ox) + ", " + std::to_string(oy) +
                         "), beyond the exact range of +-2^21; render a smaller scale or region");
   }
-  if (options.progress) options.progress->Phase("scan conversion (" + std::to_string(surface.triangles.size()) + " triangles)");
-  std::vector<Edge> boundary;
-  if (options.antialias) boundary = MeshBoundaryEdges(surface.triangles, &surface.vertex_tags);
-  Raster out = RenderFineMesh(surface.triangles, fine, vp, options.antialias ? &boundary : nullptr, options.threads);
+  if (options.progress)
+    options.progress->Phase("scan conversion (" + std::to_string(out.surface.triangles.size()) + " triangles)");
+  if (options.antialias) out.boundary = MeshBoundaryEdges(out.surface.triangles, &out.surface.vertex_tags);
+  out.empty = false;
+  return out;
+}
+
+}  // namespace
+
+StatusOr<Raster> Render(const Image& image, const RenderOptions& options) {
+  SDVI_ASSIGN_OR_RETURN(ViewportSurface s, SurfaceForViewport(image, options));
+  const Viewport& vp = options.viewport;
+  if (s.empty) return Raster(vp.width, vp.height, 4);
+  Raster out = RenderFineMesh(s.surface.triangles, s.surface.vertices, vp, options.antialias ? &s.boundary : nullptr,
+                              options.threads);
+  if (options.progress) options.progress->Done();
+  return out;
+}
+
+StatusOr<Raster8> Render8(const Image& image, const RenderOptions& options) {
+  SDVI_ASSIGN_OR_RETURN(ViewportSurface s, SurfaceForViewport(image, options));
+  const Viewport& vp = options.viewport;
+  if (s.empty) return Raster8(vp.width, vp.height, 4);
+  Raster8 out = RenderFineMesh8(s.surface.triangles, s.surface.vertices, vp,
+                                options.antialias ? &s.boundary : nullptr, options.threads);
   if (options.progress) options.progress->Done();
   return out;
 }

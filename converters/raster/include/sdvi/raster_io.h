@@ -64,12 +64,21 @@ StatusOr<Raster> DecodeRaster(const std::vector<uint8_t>& bytes, const std::stri
 // gAMA and cHRM chunks the PNG specification pairs with it). Deterministic bytes.
 StatusOr<std::vector<uint8_t>> EncodePng(const Raster& raster, int bits = 8, const std::string& name = "PNG");
 
+// An 8-bit PNG of samples already quantised (the 8-bit render, sdvi::Render8): the same
+// chunks as EncodePng; a Raster8 holding EncodePng's quantisation of a Raster encodes to
+// the same bytes.
+StatusOr<std::vector<uint8_t>> EncodePng(const Raster8& raster, const std::string& name = "PNG");
+
 // EncodePng written to path atomically.
 Status SaveRasterPng(const std::string& path, const Raster& raster, int bits = 8);
+Status SaveRasterPng(const std::string& path, const Raster8& raster);
 
 // The raster with the channels it needs for an output: alpha dropped when every pixel is
 // fully covered (alpha == 1), RGB collapsed to grey when every pixel has R == G == B.
 // A render of an RGB image over its whole domain comes back RGB; of a grey image, grey.
 Raster WithNeededChannels(const Raster& raster);
+// The same for 8-bit samples: alpha dropped when every alpha is 255, grey when every
+// pixel's R, G, B bytes are equal (the PNG holds the same pixels either way).
+Raster8 WithNeededChannels(const Raster8& raster);
 
 }  // namespace sdvi

@@ -72,6 +72,13 @@ struct RenderOptions {
 // topology errors of BuildLimitSurface.
 StatusOr<Raster> Render(const Image& image, const RenderOptions& options);
 
+// Renders image as Render does, straight into 8-bit RGBA (what an 8-bit PNG stores), without a
+// float raster (spec/METHOD.md section 4, item 5): every byte equals the float render's value
+// quantised by the PNG writer's rule, colours round(clamp(v, 0, 255)) and alpha
+// round(255 clamp(a, 0, 1)), halves away from zero; the same bytes for any thread count.
+// Errors: those of Render.
+StatusOr<Raster8> Render8(const Image& image, const RenderOptions& options);
+
 // ---- Building blocks (also used by tests, the colour fit and the benchmarks) ----
 
 // Scan conversion works in output pixels with kSubpixelBits of fixed-point precision;
@@ -96,6 +103,11 @@ inline constexpr double kMaxOutputCoord = double(1 << 21);  // products fit in i
 Raster RenderFineMesh(const std::vector<Triangle>& triangles, const std::vector<Vertex>& fine,
                       const Viewport& viewport, const std::vector<Edge>* boundary = nullptr,
                       int threads = 0);
+
+// RenderFineMesh straight into 8-bit RGBA, quantised as Render8 says.
+Raster8 RenderFineMesh8(const std::vector<Triangle>& triangles, const std::vector<Vertex>& fine,
+                        const Viewport& viewport, const std::vector<Edge>* boundary = nullptr,
+                        int threads = 0);
 
 // Edges used by exactly one triangle (the domain edge: outer boundary and holes), sorted.
 // When tags is non-null, only edges whose two endpoints are not smooth are considered (a
