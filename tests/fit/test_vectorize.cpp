@@ -131,6 +131,72 @@ TEST_CASE("vectorize rejects empty input and bad options", "[vectorize]") {
   CHECK(sdvi::Vectorize(sample, &empty_mask, {}).status().code() == sdvi::StatusCode::kEmptyInput);
 }
 
+TEST_CASE("content blocks flag exactly the blocks whose colour varies", "[vectorize]") {
+  // 40 x 24 px in blocks of 16: 3 x 2 blocks (the last column and row partial). One pixel
+  // of block (2, 1) differs by 2 in green; block (0, 0) by exactly the tolerance.
+  sdvi::Raster raster(40, 24, 3);
+  for (float& v : raster.data) v = 100;
+  raster.at(35, 20, 1) = 102;
+  raster.at(3, 3, 2) = 101.5f;
+  const sdvi::ContentBlocks blocks = sdvi::FindContentBlocks(raster, nullptr, 16, 1.5);
+  REQUIRE(blocks.columns == 3);
+  REQUIRE(blocks.rows == 2);
+  CHECK(blocks.AnyBusy(33, 17, 39, 23));        // block (2, 1)
+  CHECK_FALSE(blocks.AnyBusy(0, 0, 31.9, 15));  // blocks (0, 0) and (1, 0): at most 1.5
+  CHECK_FALSE(blocks.AnyBusy(0, 16, 31.9, 23)); // row 1 without the last column
+  CHECK(blocks.AnyBusy(0, 16, 32, 23));         // reaches block (2, 1)
+  CHECK(blocks.AnyBusy(-100, -100, 1e9, 1e9));  // clamped to the image
+  // A mask that leaves the differing pixel out makes its block flat.
+  sdvi::Raster mask(40, 24, 1);
+  for (float& v : mask.data) v = 255;
+  mask.at(35, 20, 0) = 0;
+  CHECK_FALSE(sdvi::FindContentBlocks(raster, &mask, 16, 1.5).AnyBusy(0, 0, 39, 23));
+  // No blocks: everything is busy.
+  CHECK(sdvi::FindContentBlocks(raster, nullptr, 0, 1.5).AnyBusy(0, 0, 1, 1));
+}
+
+TEST_CASE("the quality stop: a flat image costs a few triangles, whatever the budget", "[vectorize]") {
+  sdvi::Raster flat(512, 384, 3);
+  for (size_t i = 0; i < flat.data.size(); ++i) flat.data[i] = float(40 + 80 * (i % 3));
+  sdvi::VectorizeOptions options;  // default budget: 512 x 384 / 64 = 3072 vertices
+  auto result = sdvi::Vectorize(flat, nullptr, options);
+  REQUIRE(result.ok());
+  INFO(result->report.vertices << " vertices, " << result->report.triangles << " triangles");
+  CHECK(result->report.triangles <= 8);
+  CHECK(result->report.psnr > 100);
+  // Without the quality stop the budget decides: the size bound and the initial grid fill
+  // the rectangle.
+  options.content_block = 0;
+  auto budgeted = sdvi::Vectorize(flat, nullptr, options);
+  REQUIRE(budgeted.ok());
+  CHECK(budgeted->report.triangles > 500);
+  options.content_block = -1;
+  CHECK(sdvi::Vectorize(flat, nullptr, options).status().code() == sdvi::StatusCode::kInvalidArgument);
+}
+
+TEST_CASE("the quality stop keeps the size bound where the image varies", "[vectorize]") {
+  // Left half flat, right half a smooth ramp: vertices go to the right half.
+  sdvi::Raster half(256, 128, 3);
+  for (int y = 0; y < 128; ++y) {
+    for (int x = 0; x < 256; ++x) {
+      const float v = x < 128 ? 60.f : float(60 + (x - 128) * 1.2 + 40 * std::sin(y * 0.08));
+      for (int c = 0; c < 3; ++c) half.at(x, y, c) = v;
+    }
+  }
+  sdvi::VectorizeOptions options;
+  options.compression_ratio = 32;
+  auto result = sdvi::Vectorize(half, nullptr, options);
+  REQUIRE(result.ok());
+  int left = 0, right = 0;
+  for (const sdvi::Vertex& v : result->image.vertices) {
+    if (v.x < 120) ++left;
+    if (v.x > 136) ++right;
+  }
+  INFO(left << " vertices left, " << right << " right, PSNR " << result->report.psnr);
+  CHECK(right > 4 * left);
+  CHECK(result->report.psnr > 40);
+}
+
 TEST_CASE("refinement selection keeps samples far apart and worst first", "[vectorize]") {
   const int w = 20, h = 10;
   std::vector<float> error(size_t(w) * h, 0.f);

@@ -368,9 +368,20 @@ StatusOr<PlacedFeatures> PlaceFeatures(int width, int height, const std::vector<
       Point2 a = corner[s], b = corner[(s + 1) % 4];
       int pieces = std::max(1, int(std::ceil(Dist(a, b) / max_len)));
       rect.corners.push_back(uint32_t(rect.points.size()));
+      auto at = [&](int k) {
+        const double t = double(k) / pieces;
+        return Point2{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
+      };
+      // With content blocks a split point is kept only next to a piece that meets a busy
+      // block: along flat stretches the side stays one long edge.
+      auto busy = [&](int k) {  // piece [k, k + 1]
+        const Point2 p = at(k), q = at(k + 1);
+        return options.content == nullptr ||
+               options.content->AnyBusy(std::min(p.x, q.x), std::min(p.y, q.y), std::max(p.x, q.x),
+                                        std::max(p.y, q.y));
+      };
       for (int k = 0; k < pieces; ++k) {
-        double t = double(k) / pieces;
-        rect.points.push_back({a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)});
+        if (k == 0 || busy(k - 1) || busy(k)) rect.points.push_back(at(k));
       }
     }
     place(std::move(rect));

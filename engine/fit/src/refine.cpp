@@ -116,6 +116,45 @@ std::vector<Point2> GridSamples(int width, int height, double spacing,
   return samples;
 }
 
+ContentBlocks FindContentBlocks(const Raster& raster, const Raster* mask, int block, double tolerance) {
+  ContentBlocks content;
+  if (block <= 0 || raster.empty()) return content;
+  content.block = block;
+  content.columns = (raster.width + block - 1) / block;
+  content.rows = (raster.height + block - 1) / block;
+  const int channels = raster.channels <= 2 ? 1 : 3;
+  std::vector<uint8_t> busy(size_t(content.columns) * content.rows, 0);
+  for (int r = 0; r < content.rows; ++r) {
+    for (int c = 0; c < content.columns; ++c) {
+      float low[3] = {INFINITY, INFINITY, INFINITY}, high[3] = {-INFINITY, -INFINITY, -INFINITY};
+      const int x1 = std::min(raster.width, (c + 1) * block), y1 = std::min(raster.height, (r + 1) * block);
+      for (int y = r * block; y < y1; ++y) {
+        for (int x = c * block; x < x1; ++x) {
+          if (!InDomain(raster, mask, x, y)) continue;
+          for (int k = 0; k < channels; ++k) {
+            low[k] = std::min(low[k], raster.at(x, y, k));
+            high[k] = std::max(high[k], raster.at(x, y, k));
+          }
+        }
+      }
+      for (int k = 0; k < channels; ++k) {
+        if (high[k] - low[k] > tolerance) busy[size_t(r) * content.columns + c] = 1;
+      }
+    }
+  }
+  const size_t stride = size_t(content.columns) + 1;
+  content.busy_sum.assign(stride * (size_t(content.rows) + 1), 0);
+  for (int r = 0; r < content.rows; ++r) {
+    for (int c = 0; c < content.columns; ++c) {
+      content.busy_sum[size_t(r + 1) * stride + c + 1] = busy[size_t(r) * content.columns + c] +
+                                                         content.busy_sum[size_t(r) * stride + c + 1] +
+                                                         content.busy_sum[size_t(r + 1) * stride + c] -
+                                                         content.busy_sum[size_t(r) * stride + c];
+    }
+  }
+  return content;
+}
+
 std::vector<float> ErrorMap(const Raster& reconstruction, const Raster& target, const Raster* mask,
                             double sigma) {
   const int width = target.width, height = target.height;

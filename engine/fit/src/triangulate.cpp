@@ -39,21 +39,27 @@ using Fb = CGAL::Delaunay_mesh_face_base_2<K>;
 using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
 using CDT = CGAL::Constrained_Delaunay_triangulation_2<K, Tds, CGAL::Exact_predicates_tag>;
 
-// CGAL's angle + size criteria, except that a triangle with an edge shorter than
-// min_length is never bad: the mesher cannot split constrained edges, so near small input
-// angles (feature ends, kinks, pair strips) its circumcentre insertions would otherwise
-// cascade into ever smaller triangles.
+// CGAL's angle + size criteria, except that
+//  - a triangle with an edge shorter than min_length is never bad: the mesher cannot split
+//    constrained edges, so near small input angles (feature ends, kinks, pair strips) its
+//    circumcentre insertions would otherwise cascade into ever smaller triangles;
+//  - with content blocks, the size bound applies only to triangles whose bounding box meets
+//    a busy block (ContentBlocks, features.h).
 class MeshCriteria : public CGAL::Delaunay_mesh_size_criteria_2<CDT> {
   using Size = CGAL::Delaunay_mesh_size_criteria_2<CDT>;
 
  public:
-  explicit MeshCriteria(double aspect_bound = 0.125, double size_bound = 0, double min_length = 0)
-      : CGAL::Delaunay_mesh_criteria_2<CDT>(aspect_bound), Size(aspect_bound, size_bound), min_length_(min_length) {}
+  explicit MeshCriteria(double aspect_bound = 0.125, double size_bound = 0, double min_length = 0,
+                        const ContentBlocks* content = nullptr)
+      : CGAL::Delaunay_mesh_criteria_2<CDT>(aspect_bound), Size(aspect_bound, size_bound),
+        min_length_(min_length), content_(content) {}
 
   class Is_bad : public Size::Is_bad {
    public:
-    Is_bad(double aspect_bound, double size_bound, double min_length, const K& traits)
-        : Size::Is_bad(aspect_bound, size_bound, traits), min_squared_(min_length * min_length) {}
+    Is_bad(double aspect_bound, double size_bound, double min_length, const ContentBlocks* content,
+           const K& traits)
+        : Size::Is_bad(aspect_bound, size_bound, traits), min_squared_(min_length * min_length),
+          content_(content), unbounded_(aspect_bound, 0, traits) {}
     using Size::Is_bad::operator();
     CGAL::Mesh_2::Face_badness operator()(const CDT::Face_handle& fh, typename Size::Quality& q) const {
       const K::Point_2 &a = fh->vertex(0)->point(), &b = fh->vertex(1)->point(), &c = fh->vertex(2)->point();
@@ -63,16 +69,26 @@ class MeshCriteria : public CGAL::Delaunay_mesh_size_criteria_2<CDT> {
         q = typename Size::Quality(1, 0);
         return CGAL::Mesh_2::NOT_BAD;
       }
+      if (content_ != nullptr &&
+          !content_->AnyBusy(std::min({a.x(), b.x(), c.x()}), std::min({a.y(), b.y(), c.y()}),
+                             std::max({a.x(), b.x(), c.x()}), std::max({a.y(), b.y(), c.y()}))) {
+        return unbounded_(fh, q);  // flat: the angle bound only
+      }
       return Size::Is_bad::operator()(fh, q);
     }
 
    private:
     double min_squared_;
+    const ContentBlocks* content_;
+    typename Size::Is_bad unbounded_;  // the same criteria with no size bound
   };
-  Is_bad is_bad_object() const { return Is_bad(this->bound(), this->size_bound(), min_length_, this->traits); }
+  Is_bad is_bad_object() const {
+    return Is_bad(this->bound(), this->size_bound(), min_length_, content_, this->traits);
+  }
 
  private:
   double min_length_;
+  const ContentBlocks* content_;
 };
 using Mesher = CGAL::Delaunay_mesher_no_edge_refinement_2<CDT, MeshCriteria>;
 
@@ -124,6 +140,16 @@ void MarkDomain(CDT& cdt, const std::unordered_set<uint64_t>& boundary) {
 }
 
 }  // namespace
+
+bool ContentBlocks::AnyBusy(double x0, double y0, double x1, double y1) const {
+  if (block <= 0 || columns <= 0 || rows <= 0) return true;
+  auto column = [&](double x) { return std::clamp(int(std::floor(x / block)), 0, columns - 1); };
+  auto row = [&](double y) { return std::clamp(int(std::floor(y / block)), 0, rows - 1); };
+  const int c0 = column(x0), c1 = column(x1), r0 = row(y0), r1 = row(y1);
+  const size_t stride = size_t(columns) + 1;
+  auto sum = [&](int r, int c) { return busy_sum[size_t(r) * stride + size_t(c)]; };
+  return sum(r1 + 1, c1 + 1) - sum(r0, c1 + 1) - sum(r1 + 1, c0) + sum(r0, c0) > 0;
+}
 
 StatusOr<Image> BuildControlMesh(int width, int height, const std::vector<FeatureCurve>& curves,
                                  const std::vector<Point2>& interior_samples,
@@ -182,7 +208,7 @@ StatusOr<Image> BuildControlMesh(int width, int height, const std::vector<Featur
     const double angle = options.min_angle_deg * 3.14159265358979323846 / 180.0;
     const double bound = std::sin(angle) * std::sin(angle);  // 20 deg -> ~0.117 (CGAL: B <= 0.125)
     const double min_length = 0.5 * std::min(options.clearance, options.min_distance);
-    mesher.set_criteria(MeshCriteria(std::min(0.125, bound), placed.max_edge, min_length));
+    mesher.set_criteria(MeshCriteria(std::min(0.125, bound), placed.max_edge, min_length, options.content));
     // CGAL leaves the mesher's seeds_mark uninitialised until seeds are set or cleared;
     // init reads it (an invalid bool load under UBSan): clear the (empty) seeds first.
     mesher.clear_seeds();

@@ -105,7 +105,7 @@ Status CheckOptions(const VectorizeOptions& o) {
   if (o.iterations < 0) return bad("iterations must be >= 0");
   if (!(o.error_threshold >= 0) || !(o.error_blur_sigma >= 0) || !(o.spacing_factor > 0) ||
       !(o.min_spacing > 0) || !(o.initial_fraction >= 0 && o.initial_fraction <= 1) ||
-      !(o.growth > 0) ||
+      !(o.growth > 0) || o.content_block < 0 ||
       !(o.max_feature_fraction >= 0 && o.max_feature_fraction <= 1)) {
     return bad("refinement constants out of range");
   }
@@ -218,10 +218,15 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
   const double initial_count = std::max(4.0, options.initial_fraction * vertex_budget);
   const double grid_spacing = std::sqrt(2.0 * double(domain_pixels) / (std::sqrt(3.0) * initial_count));
   std::vector<Point2> samples = GridSamples(width, height, grid_spacing, blocked);
+  // The quality stop: no grid sample and no size bound where the colour is flat.
+  const ContentBlocks content =
+      FindContentBlocks(raster, mask, options.content_block, options.error_threshold);
+  std::erase_if(samples, [&](const Point2& p) { return !content.AnyBusy(p.x, p.y, p.x, p.y); });
   seconds.refine += SecondsSince(start);
 
   start = Clock::now();
   ControlMeshOptions mesh_options = options.mesh;
+  if (options.content_block > 0) mesh_options.content = &content;
   if (mesh_options.max_edge <= 0) {
     // CDT size bound from the budget: a few times the mean vertex spacing, so that the
     // interior samples, not the size bound, decide the density.

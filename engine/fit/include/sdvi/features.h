@@ -78,6 +78,20 @@ struct FeatureOptions {
 StatusOr<std::vector<FeatureCurve>> DetectFeatures(const Raster& image, const Raster* mask,
                                                    const FeatureOptions& options);
 
+// Where the image varies (spec/METHOD.md section 6, the quality stop): the image cut into
+// square blocks, a block busy when some colour channel of its domain pixels varies by more
+// than a tolerance (FindContentBlocks, vectorize.h). The mesher applies its size bound only
+// to triangles touching a busy block, and the image rectangle's sides are split only there:
+// a flat region is represented by any triangle covering it, so it costs few vertices.
+struct ContentBlocks {
+  int block = 0;                   // px; 0: no blocks (everything counts as busy)
+  int columns = 0, rows = 0;
+  std::vector<uint32_t> busy_sum;  // (rows + 1) x (columns + 1) summed-area table of busy flags
+  // True when a block meeting the box [x0, x1] x [y0, y1] (px, clamped to the image) is
+  // busy, or when there are no blocks.
+  bool AnyBusy(double x0, double y0, double x1, double y1) const;
+};
+
 struct ControlMeshOptions {
   float rho = 5.0f;          // pair distance rho * (1 - sharpness), paper value 5 px
   float min_distance = 1.0f; // floor on the pair distance, keeps triangles non-degenerate
@@ -87,6 +101,8 @@ struct ControlMeshOptions {
   float max_edge = 0;        // CDT size bound in px; 0 = max(8, sqrt(width * height) / 12)
   float clearance = 1.0f;    // min distance between different feature polylines (and
                              // from features to the boundary and to interior samples), px
+  // Where the size bound applies (not owned); null: everywhere.
+  const ContentBlocks* content = nullptr;
 };
 
 // Distance between the two polylines of a feature pair (paper section IV step 3):
@@ -111,7 +127,8 @@ std::array<std::vector<Point2>, 2> OffsetPairSides(const std::vector<Point2>& ce
 // then the kept interior samples, then Steiner points of the mesher. polylines holds the
 // boundary too (closed); every pair is (side +normal, side -normal) with the curve's
 // sharpness (0 when use_sharpness is false). Mesher (CGAL, no edge refinement): angle bound
-// sin^2(min_angle_deg) capped at CGAL's 0.125, size bound max_edge, and triangles with an
+// sin^2(min_angle_deg) capped at CGAL's 0.125, size bound max_edge (only on triangles whose
+// bounding box meets a busy block when options.content is set), and triangles with an
 // edge shorter than min(clearance, min_distance) / 2 are left alone (no refinement
 // cascades at small input angles); triangles touching feature polylines may stay thinner
 // than the bound. Samples on an exact square lattice give right triangles whose

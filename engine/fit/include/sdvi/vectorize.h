@@ -26,7 +26,10 @@
 // samples, then fewer (the shorter) features, then a looser CDT size bound, and when even
 // the boundary alone needs more triangles the result is kLimitExceeded. The CDT size
 // bound (mesh.max_edge = 0) is 4 x sqrt(domain pixels / vertex budget). Without it the budget is the vertex count
-// domain pixels / compression_ratio, i.e. about twice as many triangles.
+// domain pixels / compression_ratio, i.e. about twice as many triangles. The quality stop
+// (content_block > 0): the initial grid and the size bound apply only in blocks where the
+// colour varies by more than error_threshold (FindContentBlocks), so flat regions get few
+// vertices whatever the budget (spec/METHOD.md section 6 step 4).
 #pragma once
 
 #include <cstdint>
@@ -56,6 +59,10 @@ struct VectorizeOptions {
   double min_spacing = 2.0;        // px
   double spacing_exponent = 0;     // SpacingRule::exponent (0: fixed spacing)
   double feature_clearance = 1.0;  // px: no interior sample this close to a crease edge
+  // The quality stop: the CDT size bound and the initial grid apply only in blocks of this
+  // many px where the colour varies by more than error_threshold (FindContentBlocks);
+  // 0: everywhere.
+  int content_block = 16;
   double initial_fraction = 0.05;  // share of the vertex budget placed as the initial grid
   double growth = 0.2;             // a round adds at most growth x the current vertex count
   // Features of at most this share of the vertex budget are kept (the longest first).
@@ -146,6 +153,12 @@ std::vector<uint8_t> BlockedPixels(const Raster& target, const Raster* mask, con
 // centres only.
 std::vector<Point2> GridSamples(int width, int height, double spacing,
                                 const std::vector<uint8_t>& blocked);
+
+// The quality stop's content blocks (ContentBlocks, features.h; spec/METHOD.md section 6):
+// blocks of `block` px, busy when some channel (R, G, B; grey: one) of the block's domain
+// pixels spans more than `tolerance` (max - min, 0..255 units). Blocks without a domain
+// pixel are flat. block <= 0 gives no blocks (everything busy).
+ContentBlocks FindContentBlocks(const Raster& raster, const Raster* mask, int block, double tolerance);
 
 // Per-pixel squared error sum over R, G, B between the reconstruction (RGBA) and target,
 // averaged by a Gaussian of sigma px (sigma <= 0: none); -1 outside the fitting domain.
