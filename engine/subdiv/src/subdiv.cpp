@@ -255,6 +255,17 @@ unsigned ThreadsFor(size_t num_rows, int requested) {
   return static_cast<unsigned>(std::clamp<size_t>(num_rows / 16384, 1, hw));
 }
 
+// Runs body(begin, end) over contiguous blocks of [0, num_rows), one thread a block
+// (ThreadsFor): each row is computed by one thread, whatever their number.
+template <typename Body>
+void ForRowBlocks(size_t num_rows, int requested_threads, const Body& body) {
+  const unsigned threads = ThreadsFor(num_rows, requested_threads);
+  std::vector<std::thread> pool;
+  for (unsigned i = 1; i < threads; ++i) pool.emplace_back(body, num_rows * i / threads, num_rows * (i + 1) / threads);
+  body(0, num_rows / threads);
+  for (std::thread& t : pool) t.join();
+}
+
 // All rows of (mask x previous) into CSR arrays, in parallel blocks; deterministic
 // whatever the number of threads.
 template <typename Weight, typename MaskRow>
@@ -467,13 +478,18 @@ StatusOr<RefinedMesh> RefineImage(const Image& image, const LimitSurfaceOptions&
       for (int c = 0; c < 5; ++c) out[c] += w * src[c];
     }
   };
-  for (int k = 0; k + 1 < options.levels; ++k) {
-    const SparseRows masks = RefinementMasks(mesh);
+  // All rows of masks applied to the current values, rows split over threads.
+  auto apply_all = [&](const SparseRows& masks) {
     std::vector<double> next;
     internal::ReserveLarge(next, 5 * masks.rows());
     next.resize(5 * masks.rows());
-    for (size_t r = 0; r < masks.rows(); ++r) apply_row(masks, r, &next[5 * r]);
-    values = std::move(next);
+    ForRowBlocks(masks.rows(), options.threads, [&](size_t begin, size_t end) {
+      for (size_t r = begin; r < end; ++r) apply_row(masks, r, &next[5 * r]);
+    });
+    return next;
+  };
+  for (int k = 0; k + 1 < options.levels; ++k) {
+    values = apply_all(RefinementMasks(mesh));
     mesh = mesh.Refine();
   }
   // The last step, as in BuildLimitSurface: only the output vertices, without the level-r
@@ -487,8 +503,11 @@ StatusOr<RefinedMesh> RefineImage(const Image& image, const LimitSurfaceOptions&
   const SparseRows masks = refine_once ? RefinementMasks(mesh) : SparseRows{};
   const SparseRows limit = options.to_limit ? LimitMasks(mesh) : SparseRows{};
   const uint32_t nv = mesh.num_vertices();
-  auto run = [&](size_t begin, size_t end) {
-    SparseRows edge_limit;  // one row: the limit mask of an edge point
+  // An edge child's limit comes from its one-ring at level r (EdgeChildLimitRing): the
+  // level-r values are computed once, not once per ring they belong to.
+  std::vector<double> children;
+  if (options.to_limit && refine_once) children = apply_all(masks);
+  ForRowBlocks(selection.vertices.size(), options.threads, [&](size_t begin, size_t end) {
     double v[5];
     for (size_t i = begin; i < end; ++i) {
       const uint32_t fine = selection.vertices[i];
@@ -499,22 +518,19 @@ StatusOr<RefinedMesh> RefineImage(const Image& image, const LimitSurfaceOptions&
       } else if (fine < nv) {
         apply_row(limit, fine, v);
       } else {
-        edge_limit.indices.clear();
-        edge_limit.weights.clear();
-        AppendEdgeChildLimitMask(mesh, masks, fine - nv, edge_limit.indices, edge_limit.weights);
-        edge_limit.offsets.assign({0, static_cast<uint32_t>(edge_limit.indices.size())});
-        apply_row(edge_limit, 0, v);
+        uint32_t ring[7];
+        double lambda[7];
+        const int n = EdgeChildLimitRing(mesh, fine - nv, ring, lambda);
+        for (int c = 0; c < 5; ++c) v[c] = 0;
+        for (int k = 0; k < n; ++k) {
+          const double* src = &children[5 * size_t{ring[k]}];
+          for (int c = 0; c < 5; ++c) v[c] += lambda[k] * src[c];
+        }
       }
       out.vertices[i] = Vertex{static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]),
                                static_cast<float>(v[3]), static_cast<float>(v[4])};
     }
-  };
-  const size_t n = selection.vertices.size();
-  const unsigned threads = ThreadsFor(n, options.threads);
-  std::vector<std::thread> pool;
-  for (unsigned i = 1; i < threads; ++i) pool.emplace_back(run, n * i / threads, n * (i + 1) / threads);
-  run(0, n / threads);
-  for (std::thread& t : pool) t.join();
+  });
   out.triangles = std::move(selection.triangles);
   out.parent_triangle = std::move(selection.parent_triangle);
   out.vertex_tags = std::move(selection.vertex_tags);

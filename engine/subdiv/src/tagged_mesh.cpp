@@ -424,43 +424,50 @@ SparseRows LimitMasks(const TaggedMesh& mesh) {
   return rows;
 }
 
-void AppendEdgeChildLimitMask(const TaggedMesh& mesh, const SparseRows& refinement, uint32_t e,
-                              std::vector<uint32_t>& indices, std::vector<double>& weights) {
+int EdgeChildLimitRing(const TaggedMesh& mesh, uint32_t e, uint32_t children[7], double weights[7]) {
   const uint32_t nv = mesh.num_vertices();
-  auto add = [&](uint32_t child, double lambda) {
-    if (lambda == 0) return;
-    for (uint32_t k = refinement.offsets[child]; k < refinement.offsets[child + 1]; ++k) {
-      indices.push_back(refinement.indices[k]);
-      weights.push_back(lambda * refinement.weights[k]);
-    }
-  };
   const Edge& edge = mesh.edges()[e];
   if (mesh.is_crease(e)) {
     // The child is a crease vertex whose crease neighbours are the children of a and b.
     const rules::CreaseVertexMask m = rules::CreaseLimitRule(mesh.is_corner(edge.a), mesh.is_corner(edge.b));
-    add(edge.a, m.c0);
-    add(nv + e, m.self);
-    add(edge.b, m.c1);
-    return;
+    children[0] = edge.a, weights[0] = m.c0;
+    children[1] = nv + e, weights[1] = m.self;
+    children[2] = edge.b, weights[2] = m.c1;
+    return 3;
   }
+  children[0] = nv + e;
   // A smooth child: its ring is the children of a and b and of the other edges of the
   // triangles of e (valence 6 inside the mesh).
-  uint32_t ring[6];
-  int n = 0;
-  ring[n++] = edge.a;
-  ring[n++] = edge.b;
+  int n = 1;
+  children[n++] = edge.a;
+  children[n++] = edge.b;
   for (uint32_t t : mesh.edge_triangles(e)) {
     if (t == kNoIndex) continue;
     for (uint32_t other : mesh.triangle_edges(t))
-      if (other != e) ring[n++] = nv + other;
+      if (other != e) children[n++] = nv + other;
   }
-  if (n < 3) {  // only at a sub-mesh cut, where values are unused
-    add(nv + e, 1.0);
-    return;
+  if (n < 4) {  // only at a sub-mesh cut, where values are unused
+    weights[0] = 1.0;
+    return 1;
   }
-  const rules::SmoothVertexMask m = rules::SmoothLimitRule(n);
-  add(nv + e, m.self);
-  for (int i = 0; i < n; ++i) add(ring[i], m.neighbour);
+  const rules::SmoothVertexMask m = rules::SmoothLimitRule(n - 1);
+  weights[0] = m.self;
+  for (int i = 1; i < n; ++i) weights[i] = m.neighbour;
+  return n;
+}
+
+void AppendEdgeChildLimitMask(const TaggedMesh& mesh, const SparseRows& refinement, uint32_t e,
+                              std::vector<uint32_t>& indices, std::vector<double>& weights) {
+  uint32_t children[7];
+  double lambda[7];
+  const int n = EdgeChildLimitRing(mesh, e, children, lambda);
+  for (int k = 0; k < n; ++k) {
+    if (lambda[k] == 0) continue;
+    for (uint32_t j = refinement.offsets[children[k]]; j < refinement.offsets[children[k] + 1]; ++j) {
+      indices.push_back(refinement.indices[j]);
+      weights.push_back(lambda[k] * refinement.weights[j]);
+    }
+  }
 }
 
 }  // namespace sdvi

@@ -127,4 +127,9 @@ SparseRows LimitMasks(const TaggedMesh& mesh);
 void AppendEdgeChildLimitMask(const TaggedMesh& mesh, const SparseRows& refinement, uint32_t e,
                               std::vector<uint32_t>& indices, std::vector<double>& weights);
 
+// The same limit as a combination of the next level's vertices (the child's one-ring
+// there, numbered as in mesh.Refine(): vertex children first, then edge children): at most
+// 7 entries written to children / weights, their count returned.
+int EdgeChildLimitRing(const TaggedMesh& mesh, uint32_t e, uint32_t children[7], double weights[7]);
+
 }  // namespace sdvi
