@@ -32,9 +32,11 @@ void AssignZeroedLarge(std::vector<T>& v, size_t n) {
 }
 template void AssignZeroedLarge<float>(std::vector<float>&, size_t);
 template void AssignZeroedLarge<uint8_t>(std::vector<uint8_t>&, size_t);
+template void AssignZeroedLarge<FixedPoint>(std::vector<FixedPoint>&, size_t);
 
 std::vector<FixedPoint> ToFixedAll(const std::vector<Vertex>& fine, const Viewport& vp, int threads) {
-  std::vector<FixedPoint> out(fine.size());
+  std::vector<FixedPoint> out;
+  AssignZeroedLarge(out, fine.size());
   ForEachChunk(fine.size(), threads, [&](size_t s0, size_t s1) {
     for (size_t i = s0; i < s1; ++i) out[i] = ToFixed(fine[i], vp);
   });
@@ -79,7 +81,7 @@ CoverageMap MapPixels(const std::vector<Triangle>& triangles, const std::vector<
       const auto& v = triangles[t].v;
       if (v[0] >= nv || v[1] >= nv || v[2] >= nv) continue;
       const FixedPoint &a = pts[v[0]], &b = pts[v[1]], &c = pts[v[2]];
-      if (!a.valid || !b.valid || !c.valid || !MayTouchRows(a, b, c, row0, row1)) continue;
+      if (!a.valid() || !b.valid() || !c.valid() || !MayTouchRows(a, b, c, row0, row1)) continue;
       if (!SetupTriangle(a, b, c, width, viewport.height, s)) continue;
       const double inv_area = 1.0 / double(s.area);
       ScanTriangle(s, row0, row1, [&](int i, int j, int64_t e0, int64_t e1, int64_t e2) {
@@ -212,7 +214,7 @@ void DrawFineMesh(const std::vector<Triangle>& triangles, const std::vector<Vert
       const auto& v = triangles[t].v;
       if (v[0] >= nv || v[1] >= nv || v[2] >= nv) continue;
       const FixedPoint &a = pts[v[0]], &b = pts[v[1]], &c = pts[v[2]];
-      if (!a.valid || !b.valid || !c.valid || !MayTouchRows(a, b, c, row0, row1)) continue;
+      if (!a.valid() || !b.valid() || !c.valid() || !MayTouchRows(a, b, c, row0, row1)) continue;
       if (!SetupTriangle(a, b, c, width, viewport.height, s)) continue;
       const double inv_area = 1.0 / double(s.area);
       const Vertex* cv[3] = {&fine[v[s.slot[0]]], &fine[v[s.slot[1]]], &fine[v[s.slot[2]]]};

@@ -16,11 +16,14 @@ namespace sdvi::render_internal {
 constexpr int64_t kOne = int64_t(1) << kSubpixelBits;  // one output pixel in fixed point
 constexpr int64_t kHalf = kOne / 2;                      // pixel centre offset
 
-// A vertex in output pixels, fixed point; valid = finite and within kMaxOutputCoord.
+// A vertex in output pixels, fixed point; valid = finite and within kMaxOutputCoord
+// (|x|, |y| <= 2^29 in fixed point: 32 bits hold them, and the invalid mark is outside).
 struct FixedPoint {
-  int64_t x = 0, y = 0;
-  bool valid = false;
+  static constexpr int32_t kInvalid = INT32_MIN;
+  int32_t x = kInvalid, y = kInvalid;
+  bool valid() const { return x != kInvalid; }
 };
+static_assert(kMaxOutputCoord * (1 << kSubpixelBits) < double(INT32_MAX));
 
 inline FixedPoint ToFixed(const Vertex& v, const Viewport& vp) {
   const double ox = (double(v.x) - vp.origin_x) * vp.scale_x;
@@ -29,13 +32,12 @@ inline FixedPoint ToFixed(const Vertex& v, const Viewport& vp) {
   if (!std::isfinite(ox) || !std::isfinite(oy) || std::abs(ox) > kMaxOutputCoord ||
       std::abs(oy) > kMaxOutputCoord)
     return p;
-  p.x = std::llround(ox * double(kOne));
-  p.y = std::llround(oy * double(kOne));
-  p.valid = true;
+  p.x = int32_t(std::llround(ox * double(kOne)));
+  p.y = int32_t(std::llround(oy * double(kOne)));
   return p;
 }
 
-// A zero-filled vector of n values whose pages are backed by transparent huge pages where
+// A vector of n value-initialised values whose pages are backed by transparent huge pages where
 // the OS allows it: first-touch page faults of a 4096x4096 RGBA float raster (256 MiB) cost
 // more than the scan conversion itself with 4 KiB pages.
 template <typename T>
@@ -62,9 +64,9 @@ struct TriangleSetup {
 // Fills setup; false when the triangle owns no pixel centre (invalid, degenerate, off-screen).
 inline bool SetupTriangle(const FixedPoint& a, const FixedPoint& b, const FixedPoint& c, int width,
                           int height, TriangleSetup& s) {
-  if (!a.valid || !b.valid || !c.valid) return false;
+  if (!a.valid() || !b.valid() || !c.valid()) return false;
   const FixedPoint* p[3] = {&a, &b, &c};
-  int64_t area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+  int64_t area = (int64_t(b.x) - a.x) * (int64_t(c.y) - a.y) - (int64_t(b.y) - a.y) * (int64_t(c.x) - a.x);
   if (area == 0) return false;
   s.slot[0] = 0;
   s.slot[1] = area > 0 ? 1 : 2;
