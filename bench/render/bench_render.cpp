@@ -4,7 +4,10 @@
 // ratio), a x8 crop of both side by side as a PNG, and the metrics oracle check.
 //
 //   bench_render [--image PNG] [--sdvi FILE] [--out DIR] [--grid N] [--scale S] [--repeat K]
-//                [--oracle DIR]   (DIR holds camera.png and camera_noisy_seed5_sigma20.png)
+//                [--reference IMG] [--oracle DIR]
+//   (--oracle DIR holds camera.png and camera_noisy_seed5_sigma20.png; --reference is the
+//   truth at the output size, e.g. the photo --image was downscaled from: PSNR of bicubic
+//   and of the render against it)
 // Without --sdvi the mesh is a jittered grid over --image with colours sampled from it
 // (timing only); with --sdvi (e.g. `sdvi vectorize lena_512.png -o lena.sdvi
 // --max-triangles 10000`) it is a vectorized image and --image its source raster.
@@ -22,6 +25,7 @@
 #include <sys/resource.h>
 
 #include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "sdvi/raster_io.h"
@@ -138,6 +142,14 @@ Raster FromMat8(const cv::Mat& m) {
   return r;
 }
 
+// A Raster of 8-bit samples (alpha back to 0..1).
+Raster ToRaster(const Raster8& r) {
+  Raster f(r.width, r.height, r.channels);
+  for (size_t i = 0; i < r.data.size(); ++i)
+    f.data[i] = r.has_alpha() && int(i % size_t(r.channels)) == r.channels - 1 ? r.data[i] / 255.0f : float(r.data[i]);
+  return f;
+}
+
 int OracleCheck(const std::string& dir) {
   auto clean = LoadRaster(dir + "/camera.png");
   auto noisy = LoadRaster(dir + "/camera_noisy_seed5_sigma20.png");
@@ -157,7 +169,8 @@ int OracleCheck(const std::string& dir) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string image_path = "/work/shared/data/photos/lena_512.png", out_dir = "out/bench/render", oracle, sdvi_path;
+  std::string image_path = "/work/shared/data/photos/lena_512.png", out_dir = "out/bench/render", oracle, sdvi_path,
+              reference_path;
   int grid = 71, repeat = 3;
   double scale = 8;
   for (int i = 1; i + 1 < argc; i += 2) {
@@ -169,6 +182,7 @@ int main(int argc, char** argv) {
     else if (k == "--repeat") repeat = std::max(1, std::atoi(v.c_str()));
     else if (k == "--oracle") oracle = v;
     else if (k == "--sdvi") sdvi_path = v;
+    else if (k == "--reference") reference_path = v;
     else return std::fprintf(stderr, "unknown option %s\n", k.c_str()), 1;
   }
   if (!oracle.empty()) return OracleCheck(oracle);
@@ -251,6 +265,10 @@ int main(int argc, char** argv) {
   }
   // The 8-bit path (Render8, what `sdvi render` uses for 8-bit PNG), with its byte check
   // against the float render quantised as the PNG writer does.
+  Raster8 ours8;
+  double t_ours8 = 0, c_ours8 = 0;
+  Raster finest8 = finest;  // the level-5 render as its 8-bit PNG holds it
+  RoundTo8Bit(finest8);
   for (int levels : {3, 4, -1}) {
     RenderOptions o;
     o.viewport = Viewport{W, H, scale, scale, 0, 0};
@@ -277,15 +295,19 @@ int main(int argc, char** argv) {
       continue;
     }
     std::string vs_finest = "-";
-    if (!finest.empty()) {
-      Raster f(r->width, r->height, 4);
-      for (size_t i = 0; i < r->data.size(); ++i) f.data[i] = i % 4 == 3 ? r->data[i] / 255.0f : float(r->data[i]);
-      auto m = CompareImages(f, finest);
+    if (!finest8.empty()) {
+      auto m = CompareImages(ToRaster(*r), finest8);
       vs_finest = !m.ok() ? m.status().ToString() : std::isinf(m->psnr) ? "identical" : std::to_string(m->psnr);
     }
     std::printf("%-36s %8.3f %8.3f %9.1f %9.2f %9.2f %14s\n", name, best, best_cpu, mem, best / t_bicubic,
                 best_cpu / c_bicubic, vs_finest.c_str());
+    if (levels == -1) {
+      ours8 = std::move(*r);
+      t_ours8 = best, c_ours8 = best_cpu;
+    }
   }
+  std::printf("(Render8 rows: PSNR against the level-5 render rounded to 8 bits, as its PNG holds it)\n");
+  finest8 = Raster();
   finest = Raster();
 
   // Where the time goes: refinement (RefineImage) and scan conversion (RenderFineMesh).
@@ -305,6 +327,48 @@ int main(int argc, char** argv) {
     const double t_scan = Seconds(t0), c_scan = CpuSeconds() - c0;
     std::printf("%-10d %12zu %12.3f %12.3f %12.3f %12.3f\n", levels, fine->triangles.size(), t_refine, c_refine,
                 t_scan, c_scan);
+  }
+
+  // The PNG of each output, encoded in memory (writing the file excluded on both sides):
+  // ours through EncodePng (OpenImageIO, libpng's zlib defaults), OpenCV's through
+  // cv::imencode with its defaults.
+  if (!ours8.empty()) {
+    double t_ours_png = 1e30, t_cv_png = 1e30;
+    size_t ours_bytes = 0, cv_bytes = 0;
+    const Raster8 needed = WithNeededChannels(ours8);
+    for (int k = 0; k < repeat; ++k) {
+      auto t0 = std::chrono::steady_clock::now();
+      auto png = EncodePng(needed);
+      t_ours_png = std::min(t_ours_png, Seconds(t0));
+      ours_bytes = png.ok() ? png->size() : 0;
+      std::vector<uint8_t> cv_png;
+      t0 = std::chrono::steady_clock::now();
+      cv::imencode(".png", bicubic, cv_png);
+      t_cv_png = std::min(t_cv_png, Seconds(t0));
+      cv_bytes = cv_png.size();
+    }
+    std::printf("\nPNG in memory (best of %d; file write excluded on both sides)\n", repeat);
+    std::printf("%-44s %8s %12s\n", "", "wall s", "bytes");
+    std::printf("%-44s %8.3f %12zu\n", "sdvi EncodePng (OpenImageIO, zlib defaults)", t_ours_png, ours_bytes);
+    std::printf("%-44s %8.3f %12zu\n", "OpenCV cv::imencode .png (its defaults)", t_cv_png, cv_bytes);
+    std::printf("render + PNG: sdvi %.3f s, bicubic %.3f s, ratio %.2f\n", t_ours8 + t_ours_png,
+                t_bicubic + t_cv_png, (t_ours8 + t_ours_png) / (t_bicubic + t_cv_png));
+  }
+
+  // Quality against the truth at the output size (e.g. the photo --image was downscaled
+  // from): bicubic and the default-level renders, 8-bit and float.
+  if (!reference_path.empty()) {
+    auto truth = LoadRaster(reference_path);
+    if (!truth.ok()) return std::fprintf(stderr, "%s\n", truth.status().ToString().c_str()), 2;
+    auto line = [&](const char* name, const Raster& r) {
+      auto m = CompareImages(r, *truth);
+      if (!m.ok()) return (void)std::printf("%-40s %s\n", name, m.status().ToString().c_str());
+      std::printf("%-40s %10.3f %10.4f\n", name, m->psnr, m->mssim);
+    };
+    std::printf("\nagainst %s\n%-40s %10s %10s\n", reference_path.c_str(), "method", "PSNR dB", "MSSIM");
+    line("OpenCV bicubic", FromMat8(bicubic));
+    if (!ours8.empty()) line("sdvi Render8, default level", ToRaster(ours8));
+    if (!ours.empty()) line("sdvi Render (float), default level", ours);
   }
 
   // Region rendering: a 512x512 crop of the x8 output, at the automatic level (which may
