@@ -469,27 +469,20 @@ StatusOr<RefinedMesh> RefineImage(const Image& image, const LimitSurfaceOptions&
     const double src[5] = {v.x, v.y, v.r, v.g, v.b};
     std::copy(src, src + 5, values.begin() + 5 * i);
   }
-  // Row r of masks applied to the current values.
-  auto apply_row = [&values](const SparseRows& masks, size_t r, double* out) {
-    for (int c = 0; c < 5; ++c) out[c] = 0;
-    for (uint32_t k = masks.offsets[r]; k < masks.offsets[r + 1]; ++k) {
-      const double w = masks.weights[k];
-      const double* src = &values[5 * size_t{masks.indices[k]}];
-      for (int c = 0; c < 5; ++c) out[c] += w * src[c];
-    }
-  };
-  // All rows of masks applied to the current values, rows split over threads.
-  auto apply_all = [&](const SparseRows& masks) {
+  // The next level's values: every refinement row of mesh applied to the current values
+  // (the masks are not built: ApplyRefinementRows), rows split over threads.
+  auto refine_values = [&]() {
+    const size_t rows = size_t{mesh.num_vertices()} + mesh.num_edges();
     std::vector<double> next;
-    internal::ReserveLarge(next, 5 * masks.rows());
-    next.resize(5 * masks.rows());
-    ForRowBlocks(masks.rows(), options.threads, [&](size_t begin, size_t end) {
-      for (size_t r = begin; r < end; ++r) apply_row(masks, r, &next[5 * r]);
+    internal::ReserveLarge(next, 5 * rows);
+    next.resize(5 * rows);
+    ForRowBlocks(rows, options.threads, [&](size_t begin, size_t end) {
+      ApplyRefinementRows(mesh, values.data(), begin, end, &next[5 * begin]);
     });
     return next;
   };
   for (int k = 0; k + 1 < options.levels; ++k) {
-    values = apply_all(RefinementMasks(mesh));
+    values = refine_values();
     mesh = mesh.Refine();
   }
   // The last step, as in BuildLimitSurface: only the output vertices, without the level-r
@@ -500,13 +493,11 @@ StatusOr<RefinedMesh> RefineImage(const Image& image, const LimitSurfaceOptions&
   out.levels = options.levels;
   internal::ReserveLarge(out.vertices, selection.vertices.size());
   out.vertices.resize(selection.vertices.size());
-  const SparseRows masks = refine_once ? RefinementMasks(mesh) : SparseRows{};
-  const SparseRows limit = options.to_limit ? LimitMasks(mesh) : SparseRows{};
   const uint32_t nv = mesh.num_vertices();
   // An edge child's limit comes from its one-ring at level r (EdgeChildLimitRing): the
   // level-r values are computed once, not once per ring they belong to.
   std::vector<double> children;
-  if (options.to_limit && refine_once) children = apply_all(masks);
+  if (options.to_limit && refine_once) children = refine_values();
   ForRowBlocks(selection.vertices.size(), options.threads, [&](size_t begin, size_t end) {
     double v[5];
     for (size_t i = begin; i < end; ++i) {
@@ -514,9 +505,9 @@ StatusOr<RefinedMesh> RefineImage(const Image& image, const LimitSurfaceOptions&
       if (!options.to_limit && !refine_once) {
         std::copy(&values[5 * size_t{fine}], &values[5 * size_t{fine}] + 5, v);
       } else if (!options.to_limit) {
-        apply_row(masks, fine, v);
+        ApplyRefinementRows(mesh, values.data(), fine, size_t{fine} + 1, v);
       } else if (fine < nv) {
-        apply_row(limit, fine, v);
+        ApplyLimitRows(mesh, values.data(), fine, fine + 1, v);  // the parent's limit
       } else {
         uint32_t ring[7];
         double lambda[7];

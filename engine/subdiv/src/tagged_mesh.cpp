@@ -49,27 +49,57 @@ bool CreaseNeighbours(const TaggedMesh& mesh, uint32_t v, uint32_t* c0, uint32_t
   return found == 2;
 }
 
-template <typename SmoothRule, typename CreaseRule>
-void VertexMasks(const TaggedMesh& mesh, SparseRows& rows, SmoothRule smooth_rule,
-                 CreaseRule crease_rule) {
-  for (uint32_t v = 0; v < mesh.num_vertices(); ++v) {
+// Mask rows are produced through a sink: sink.Add(index, weight) for each non-zero term in
+// order, sink.EndRow() after each row. MaskRows builds SparseRows; ValueRows applies the
+// rows to values as they come, without building them, with the same terms in the same order.
+struct MaskRows {
+  SparseRows& rows;
+  void Add(uint32_t index, double weight) { Push(rows, index, weight); }
+  void EndRow() { sdvi::EndRow(rows); }
+};
+struct ValueRows {
+  const double* values;  // 5 a vertex
+  double* out;           // 5 a row, from the first row given
+  double sum[5] = {0, 0, 0, 0, 0};
+  void Add(uint32_t index, double weight) {
+    if (weight == 0) return;
+    const double* src = values + 5 * size_t{index};
+    for (int c = 0; c < 5; ++c) sum[c] += weight * src[c];
+  }
+  void EndRow() {
+    for (int c = 0; c < 5; ++c) *out++ = sum[c], sum[c] = 0;
+  }
+};
+
+// Vertex rows [begin, end) of mesh under the given vertex rules.
+template <typename SmoothRule, typename CreaseRule, typename Sink>
+void VertexRows(const TaggedMesh& mesh, uint32_t begin, uint32_t end, SmoothRule smooth_rule, CreaseRule crease_rule,
+                Sink& sink) {
+  for (uint32_t v = begin; v < end; ++v) {
     const VertexTag tag = mesh.tag(v);
     uint32_t c0 = 0, c1 = 0;
     auto nbrs = mesh.neighbours(v);
     if (tag == VertexTag::kCrease && CreaseNeighbours(mesh, v, &c0, &c1)) {
       const rules::CreaseVertexMask m = crease_rule(mesh.is_corner(c0), mesh.is_corner(c1));
-      Push(rows, c0, m.c0);
-      Push(rows, v, m.self);
-      Push(rows, c1, m.c1);
+      sink.Add(c0, m.c0);
+      sink.Add(v, m.self);
+      sink.Add(c1, m.c1);
     } else if (tag == VertexTag::kSmooth && nbrs.size() >= 3) {
       const rules::SmoothVertexMask m = smooth_rule(static_cast<int>(nbrs.size()));
-      Push(rows, v, m.self);
-      for (uint32_t n : nbrs) Push(rows, n, m.neighbour);
+      sink.Add(v, m.self);
+      for (uint32_t n : nbrs) sink.Add(n, m.neighbour);
     } else {
-      Push(rows, v, rules::kCornerVertexWeight);
+      sink.Add(v, rules::kCornerVertexWeight);
     }
-    EndRow(rows);
+    sink.EndRow();
   }
+}
+
+template <typename SmoothRule, typename CreaseRule>
+void VertexMasks(const TaggedMesh& mesh, SparseRows& rows, SmoothRule smooth_rule,
+                 CreaseRule crease_rule) {
+  MaskRows sink{rows};
+  VertexRows(mesh, 0, mesh.num_vertices(), smooth_rule, crease_rule, sink);
 }
 
 uint32_t OppositeVertex(const Triangle& tri, const Edge& e) {
@@ -383,6 +413,34 @@ std::vector<Edge> TaggedMesh::CreaseEdges() const {
   return out;
 }
 
+namespace {
+
+// Edge rows [begin, end) of RefinementMasks(mesh) (edge e is row num_vertices + e).
+template <typename Sink>
+void EdgeRows(const TaggedMesh& mesh, size_t begin, size_t end, Sink& sink) {
+  for (size_t e = begin; e < end; ++e) {
+    const Edge& edge = mesh.edges()[e];
+    const auto& tris = mesh.edge_triangles(e);
+    if (mesh.is_crease(e) || tris[1] == kNoIndex) {
+      // (A smooth edge with one triangle exists only at a sub-mesh cut: its value is unused.)
+      const rules::EdgeMask m = mesh.is_crease(e)
+                                    ? rules::CreaseEdgeRule(mesh.is_corner(edge.a), mesh.is_corner(edge.b))
+                                    : rules::EdgeMask{};
+      sink.Add(edge.a, m.end0);
+      sink.Add(edge.b, m.end1);
+    } else {
+      const rules::EdgeMask m = rules::SmoothEdgeRule();
+      sink.Add(edge.a, m.end0);
+      sink.Add(edge.b, m.end1);
+      sink.Add(OppositeVertex(mesh.triangles()[tris[0]], edge), m.opposite);
+      sink.Add(OppositeVertex(mesh.triangles()[tris[1]], edge), m.opposite);
+    }
+    sink.EndRow();
+  }
+}
+
+}  // namespace
+
 SparseRows RefinementMasks(const TaggedMesh& mesh) {
   SparseRows rows;
   // Vertex rows hold at most 1 + valence entries, edge rows at most 4.
@@ -392,26 +450,23 @@ SparseRows RefinementMasks(const TaggedMesh& mesh) {
   internal::ReserveLarge(rows.indices, entries);
   internal::ReserveLarge(rows.weights, entries);
   VertexMasks(mesh, rows, rules::SmoothVertexRule, rules::CreaseVertexRule);
-  for (size_t e = 0; e < mesh.num_edges(); ++e) {
-    const Edge& edge = mesh.edges()[e];
-    const auto& tris = mesh.edge_triangles(e);
-    if (mesh.is_crease(e) || tris[1] == kNoIndex) {
-      // (A smooth edge with one triangle exists only at a sub-mesh cut: its value is unused.)
-      const rules::EdgeMask m = mesh.is_crease(e)
-                                    ? rules::CreaseEdgeRule(mesh.is_corner(edge.a), mesh.is_corner(edge.b))
-                                    : rules::EdgeMask{};
-      Push(rows, edge.a, m.end0);
-      Push(rows, edge.b, m.end1);
-    } else {
-      const rules::EdgeMask m = rules::SmoothEdgeRule();
-      Push(rows, edge.a, m.end0);
-      Push(rows, edge.b, m.end1);
-      Push(rows, OppositeVertex(mesh.triangles()[tris[0]], edge), m.opposite);
-      Push(rows, OppositeVertex(mesh.triangles()[tris[1]], edge), m.opposite);
-    }
-    EndRow(rows);
-  }
+  MaskRows sink{rows};
+  EdgeRows(mesh, 0, mesh.num_edges(), sink);
   return rows;
+}
+
+void ApplyRefinementRows(const TaggedMesh& mesh, const double* values, size_t begin, size_t end, double* out) {
+  ValueRows sink{values, out};
+  const size_t nv = mesh.num_vertices();
+  if (begin < nv)
+    VertexRows(mesh, static_cast<uint32_t>(begin), static_cast<uint32_t>(std::min(end, nv)), rules::SmoothVertexRule,
+               rules::CreaseVertexRule, sink);
+  if (end > nv) EdgeRows(mesh, std::max(begin, nv) - nv, end - nv, sink);
+}
+
+void ApplyLimitRows(const TaggedMesh& mesh, const double* values, uint32_t begin, uint32_t end, double* out) {
+  ValueRows sink{values, out};
+  VertexRows(mesh, begin, end, rules::SmoothLimitRule, rules::CreaseLimitRule, sink);
 }
 
 SparseRows LimitMasks(const TaggedMesh& mesh) {

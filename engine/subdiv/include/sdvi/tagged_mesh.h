@@ -119,6 +119,13 @@ SparseRows RefinementMasks(const TaggedMesh& mesh);
 // Row v is the limit position of vertex v of mesh as a combination of mesh's vertices.
 SparseRows LimitMasks(const TaggedMesh& mesh);
 
+// Rows [begin, end) of RefinementMasks(mesh) (of LimitMasks(mesh): vertex rows only) applied
+// to values (5 doubles a vertex of mesh) into out (5 doubles a row, row begin first), without
+// building the masks: each row's terms are summed from zero in the masks' order, so the
+// result is bit for bit that of applying the built rows that way.
+void ApplyRefinementRows(const TaggedMesh& mesh, const double* values, size_t begin, size_t end, double* out);
+void ApplyLimitRows(const TaggedMesh& mesh, const double* values, uint32_t begin, uint32_t end, double* out);
+
 // The limit position of the child of edge e (vertex num_vertices + e of mesh.Refine()) as
 // a combination of mesh's vertices, without building the next level: the limit mask of
 // the child's one-ring there, each ring vertex taken through its refinement row
