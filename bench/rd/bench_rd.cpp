@@ -26,12 +26,16 @@
 // start included) on each codec's file at the same PSNR.
 //
 //   bench_rd [--data DIR] [--out DIR] [--only SUBSTRING] [--class photos|graphics] [--budgets 10,25,50,100,200]
-//            [--threads N] [--baseline] [--no-plots] [--parts]
+//            [--threads N] [--baseline] [--variants v1,rd,rd0] [--codecs jpeg,webp,avif,jxl] [--no-plots] [--parts]
 //
 // sdvi files per budget (one vectorization): v1 = Draco at the steps v1 `vectorize --compress`
 // used (1% of the fit's MSE; container params recorded, as v1 wrote them), rd = what `vectorize --compress` writes now (CompressForRate,
-// sdvi/rate.h). --baseline: v1 only (the BEFORE table). --parts: each sdvi file's bytes by
-// part (MeasureParts) under its row.
+// sdvi/rate.h), rd0 = the same RD search without the colour refit (RateOptions::refit_colors
+// false: colours fitted on the float positions, then quantised; the A/B of spec/RATE.md 3).
+// --variants picks them (default v1,rd); --baseline = --variants v1 (the BEFORE table). With
+// several variants each is also compared with the first (BD-rate sdvi against sdvi).
+// --codecs limits the codecs searched (the others print '-'; the searches dominate the time).
+// --parts: each sdvi file's bytes by part (MeasureParts) under its row.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -58,6 +62,7 @@
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+constexpr size_t kMaxVariants = 3;
 
 namespace {
 
@@ -388,11 +393,11 @@ sdvi::StatusOr<sdvi::Raster> RenderX1(const sdvi::Image& image, int threads) {
   return sdvi::Render(image, options);
 }
 
-// One vectorization at a budget and the files made from it: [0] = v1 (the file v1
-// `vectorize --compress` wrote: Draco at the conservative steps from a 1% MSE budget),
-// [1] = rd (CompressForRate: what `vectorize --compress` writes now).
+// One vectorization at a budget and the files made from it, one per variant: v1 (the file v1
+// `vectorize --compress` wrote: Draco at the conservative steps from a 1% MSE budget), rd
+// (CompressForRate: what `vectorize --compress` writes now), rd0 (rd without the refit).
 sdvi::StatusOr<std::vector<SdviPoint>> RunSdvi(const sdvi::Raster& raster, const Planes& reference, double ppv,
-                                               int threads, bool with_rd) {
+                                               int threads, const std::vector<std::string>& variants) {
   sdvi::VectorizeOptions options;
   options.compression_ratio = ppv;
   options.threads = threads;
@@ -401,13 +406,13 @@ sdvi::StatusOr<std::vector<SdviPoint>> RunSdvi(const sdvi::Raster& raster, const
   SDVI_ASSIGN_OR_RETURN(sdvi::VectorizeResult result, sdvi::Vectorize(raster, nullptr, options));
   const double vectorize_s = Seconds(start);
   std::vector<SdviPoint> out;
-  for (int variant = 0; variant < (with_rd ? 2 : 1); ++variant) {
+  for (const std::string& variant : variants) {
     SdviPoint p;
     p.ppv = ppv;
     p.vertices = uint32_t(result.image.vertices.size());
     p.fit_psnr = result.report.psnr;
     const auto t0 = Clock::now();
-    if (variant == 0) {
+    if (variant == "v1") {
       sdvi::CompressOptions compress;
       compress.reference_mse = 255.0 * 255.0 / std::pow(10.0, result.report.psnr / 10.0);
       compress.container_params = true;  // as v1 wrote them
@@ -415,6 +420,7 @@ sdvi::StatusOr<std::vector<SdviPoint>> RunSdvi(const sdvi::Raster& raster, const
     } else {
       sdvi::RateOptions rate;
       rate.threads = threads;
+      rate.refit_colors = variant == "rd";
       SDVI_ASSIGN_OR_RETURN(sdvi::RateResult r, sdvi::CompressForRate(result, raster, nullptr, options.fit, rate));
       p.file = std::move(r.file);
     }
@@ -565,7 +571,16 @@ int main(int argc, char** argv) {
   std::string only, only_class;
   std::vector<double> budgets = {10, 25, 50, 100, 200};
   int threads = 2;
-  bool baseline = false, plots = true, parts = false;
+  bool plots = true, parts = false;
+  std::vector<std::string> variants = {"v1", "rd"};
+  const char* names[4] = {"jpeg", "webp", "avif", "jxl"};
+  bool searched[4] = {true, true, true, true};
+  auto split = [](const std::string& list) {
+    std::vector<std::string> items;
+    std::stringstream in(list);
+    for (std::string item; std::getline(in, item, ',');) items.push_back(item);
+    return items;
+  };
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -580,17 +595,36 @@ int main(int argc, char** argv) {
     else if (a == "--only") only = next();
     else if (a == "--class") only_class = next();
     else if (a == "--threads") threads = std::atoi(next().c_str());
-    else if (a == "--baseline") baseline = true;
+    else if (a == "--baseline") variants = {"v1"};
+    else if (a == "--variants") {
+      variants = split(next());
+      if (variants.empty() || variants.size() > kMaxVariants) variants = {"?"};
+      for (const std::string& v : variants) {
+        if (v != "v1" && v != "rd" && v != "rd0") {
+          std::fprintf(stderr, "bench_rd: --variants takes 1-%zu of v1, rd, rd0\n", kMaxVariants);
+          return 1;
+        }
+      }
+    } else if (a == "--codecs") {
+      std::fill(searched, searched + 4, false);
+      for (const std::string& c : split(next())) {
+        const auto* it = std::find_if(names, names + 4, [&](const char* n) { return c == n; });
+        if (it == names + 4) {
+          std::fprintf(stderr, "bench_rd: --codecs takes jpeg, webp, avif, jxl\n");
+          return 1;
+        }
+        searched[it - names] = true;
+      }
+    }
     else if (a == "--no-plots") plots = false;
     else if (a == "--parts") parts = true;
     else if (a == "--budgets") {
       budgets.clear();
-      std::stringstream list(next());
-      for (std::string item; std::getline(list, item, ',');) budgets.push_back(std::atof(item.c_str()));
+      for (const std::string& item : split(next())) budgets.push_back(std::atof(item.c_str()));
     } else {
       std::fprintf(stderr,
                    "usage: bench_rd [--data DIR] [--out DIR] [--only SUBSTRING] [--class photos|graphics] [--budgets 10,25,50,100,200] "
-                   "[--threads N] [--baseline] [--no-plots] [--parts]\n");
+                   "[--threads N] [--baseline] [--variants v1,rd,rd0] [--codecs jpeg,webp,avif,jxl] [--no-plots] [--parts]\n");
       return 1;
     }
   }
@@ -604,26 +638,29 @@ int main(int argc, char** argv) {
   fs::create_directories(out);
   const fs::path work = out / ("work_" + (only_class.empty() ? std::string("all") : only_class));
   fs::create_directories(work);
-  const char* names[4] = {"jpeg", "webp", "avif", "jxl"};
-
-  const std::vector<std::string> variants = baseline ? std::vector<std::string>{"v1"}
-                                                     : std::vector<std::string>{"v1", "rd"};
   const size_t nv = variants.size();
-  std::printf("sdvi files: v1 = Draco at the v1 `vectorize --compress` steps (1%% of the fit's MSE)%s.\n",
-              baseline ? "" : "; rd = `vectorize --compress` now (CompressForRate: RD-chosen steps, colours refitted)");
+  std::printf("sdvi files: v1 = Draco at the v1 `vectorize --compress` steps (1%% of the fit's MSE); rd = "
+              "`vectorize --compress` now (CompressForRate: RD-chosen steps, colours refitted); rd0 = rd without "
+              "the refit. Here: %s.\n", [&] {
+                std::string list;
+                for (const std::string& v : variants) list += (list.empty() ? "" : ", ") + v;
+                return list;
+              }().c_str());
   std::printf("Metric: PSNR of premultiplied RGBA over all pixels (RGB for opaque images), sdvi rendered at x1.\n");
   std::printf("Each codec searched to the sdvi file's PSNR: bytes(quality setting), '>' = not reached at its top.\n\n");
   std::printf("%-8s %-30s %4s %-3s %6s %7s %6s %6s %7s | %15s %15s %15s %15s\n", "class", "image", "ppv", "sdv", "V",
               "bytes", "bpp", "PSNR", "fitPSNR", "jpeg", "webp", "avif", "jxl");
 
   struct ClassTally {
-    std::vector<double> bd[2][4];
+    std::vector<double> bd[kMaxVariants][4];
+    std::vector<double> bd_first[kMaxVariants];  // each variant against the first
     std::vector<double> sdvi_ms, codec_ms[4];
   };
   std::map<std::string, ClassTally> tally;
   struct ImageRow {
     std::string kind, name;
-    double bd[2][4];
+    double bd[kMaxVariants][4];
+    double bd_first[kMaxVariants];
   };
   std::vector<ImageRow> rows;
 
@@ -642,11 +679,11 @@ int main(int argc, char** argv) {
       const Planes reference = Premultiplied(*raster, with_alpha);
       const double pixels = double(raster->width) * raster->height;
       std::vector<ExternalCodec> codecs = PrepareCodecs(reference, grey, with_alpha, work);
-      std::vector<Point> sdvi_points[2];
-      std::vector<std::pair<double, double>> sdvi_plot[2];
+      std::vector<Point> sdvi_points[kMaxVariants];
+      std::vector<std::pair<double, double>> sdvi_plot[kMaxVariants];
       double sdvi_ms = std::nan(""), codec_ms[4] = {std::nan(""), std::nan(""), std::nan(""), std::nan("")};
       for (double ppv : budgets) {
-        auto points = RunSdvi(*raster, reference, ppv, threads, !baseline);
+        auto points = RunSdvi(*raster, reference, ppv, threads, variants);
         if (!points.ok()) {
           std::printf("%-8s %-30s %4g failed: %s\n", kind.c_str(), name.c_str(), ppv,
                       points.status().ToString().c_str());
@@ -667,6 +704,10 @@ int main(int argc, char** argv) {
             });
           }
           for (int c = 0; c < 4; ++c) {
+            if (!searched[c]) {
+              cells[c] = "-";
+              continue;
+            }
             bool reached = false;
             auto p = codecs[c].Search(s.psnr, &reached);
             char buf[48];
@@ -690,16 +731,25 @@ int main(int argc, char** argv) {
           std::fflush(stdout);
         }
       }
-      ImageRow row{kind, name, {}};
+      ImageRow row{kind, name, {}, {}};
       ClassTally& t = tally[kind];
       std::vector<Series> series;
-      const cv::Scalar sdvi_colours[2] = {cv::Scalar(150, 150, 230), cv::Scalar(30, 30, 200)};
+      const cv::Scalar sdvi_colours[kMaxVariants] = {cv::Scalar(150, 150, 230), cv::Scalar(30, 30, 200),
+                                                     cv::Scalar(90, 200, 230)};
       for (size_t v = 0; v < nv; ++v) series.push_back({"sdvi " + variants[v], sdvi_colours[v], sdvi_plot[v]});
       const cv::Scalar colours[4] = {cv::Scalar(200, 120, 30), cv::Scalar(40, 160, 40), cv::Scalar(160, 40, 160),
                                      cv::Scalar(30, 160, 200)};
+      for (size_t v = 0; v < kMaxVariants; ++v) {
+        row.bd_first[v] = v < nv ? BdRate(sdvi_points[v], sdvi_points[0]) : std::nan("");
+        if (v > 0 && std::isfinite(row.bd_first[v])) t.bd_first[v].push_back(row.bd_first[v]);
+      }
       for (int c = 0; c < 4; ++c) {
+        if (!searched[c]) {
+          for (size_t v = 0; v < kMaxVariants; ++v) row.bd[v][c] = std::nan("");
+          continue;
+        }
         const std::vector<Point> measured = codecs[c].Measured();
-        for (size_t v = 0; v < 2; ++v) {
+        for (size_t v = 0; v < kMaxVariants; ++v) {
           row.bd[v][c] = v < nv ? BdRate(sdvi_points[v], measured) : std::nan("");
           if (std::isfinite(row.bd[v][c])) t.bd[v][c].push_back(row.bd[v][c]);
         }
@@ -714,6 +764,9 @@ int main(int argc, char** argv) {
         std::printf("%-8s %-30s BD-rate sdvi %s vs jpeg %+.1f%%, webp %+.1f%%, avif %+.1f%%, jxl %+.1f%%\n",
                     kind.c_str(), name.c_str(), variants[v].c_str(), row.bd[v][0], row.bd[v][1], row.bd[v][2],
                     row.bd[v][3]);
+      for (size_t v = 1; v < nv; ++v)
+        std::printf("%-8s %-30s BD-rate sdvi %s vs sdvi %s %+.1f%%\n", kind.c_str(), name.c_str(),
+                    variants[v].c_str(), variants[0].c_str(), row.bd_first[v]);
       std::fflush(stdout);
       if (plots && !sdvi_plot[0].empty()) {
         const std::string plot = (out / ("rd_" + kind + "_" + name + ".png")).string();
@@ -744,6 +797,15 @@ int main(int argc, char** argv) {
       std::printf("%-8s %-30s %9s %9s %9s %9s   (arithmetic mean over %zu images)\n", kind.c_str(), "MEAN",
                   fmt(mean(t.bd[v][0])).c_str(), fmt(mean(t.bd[v][1])).c_str(), fmt(mean(t.bd[v][2])).c_str(),
                   fmt(mean(t.bd[v][3])).c_str(), t.bd[v][0].size());
+  }
+  for (size_t v = 1; v < nv; ++v) {
+    std::printf("\nBD-rate of sdvi %s against sdvi %s (positive = %s needs more bytes)\n", variants[v].c_str(),
+                variants[0].c_str(), variants[v].c_str());
+    for (const ImageRow& r : rows)
+      std::printf("%-8s %-30s %9s\n", r.kind.c_str(), r.name.c_str(), fmt(r.bd_first[v]).c_str());
+    for (const auto& [kind, t] : tally)
+      std::printf("%-8s %-30s %9s   (arithmetic mean over %zu images)\n", kind.c_str(), "MEAN",
+                  fmt(mean(t.bd_first[v])).c_str(), t.bd_first[v].size());
   }
   std::printf("\nDecode + x1 render, ms (mean over the class at 50 ppv; sdvi in process with %d threads, "
               "codecs as processes, best of 3)\n",
