@@ -33,10 +33,29 @@ struct Candidate {
   int position_bits = 0, color_bits = 0;
   std::vector<uint8_t> file;
   Image decoded;
-  Image refitted;  // positions as decoded, colours refitted, not yet quantised (refit only)
+  Image refitted;  // quantised positions, colours refitted, not yet quantised (refit only)
+  bool colors_refitted = false;  // file holds the refitted colours (else the vectorizer's)
   double psnr = 0;
   double Cost(double slope) const { return std::log(double(file.size())) - psnr / slope; }
 };
+
+// image with its positions replaced by those a reader of its file at these bits decodes:
+// same vertex order and triangles (the codec keeps the order when asked), so that the file
+// of the result is coded in the same traversal as image's own.
+StatusOr<Image> QuantisedPositions(const Image& image, const CompressOptions& bits) {
+  CompressOptions ordered = bits;
+  ordered.keep_vertex_order = true;
+  SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> file, EncodeImage(image, &ordered));
+  SDVI_ASSIGN_OR_RETURN(Image decoded, DecodeImage(file, "rate control"));
+  if (decoded.vertices.size() != image.vertices.size())
+    return Status(StatusCode::kInternal, "rate control: the codec did not keep the vertex order");
+  Image out = image;
+  for (size_t i = 0; i < out.vertices.size(); ++i) {
+    out.vertices[i].x = decoded.vertices[i].x;
+    out.vertices[i].y = decoded.vertices[i].y;
+  }
+  return out;
+}
 
 }  // namespace
 
@@ -66,9 +85,18 @@ StatusOr<RateResult> CompressForRate(const VectorizeResult& vectorized, const Ra
   ColorFitOptions refit = fit;
   refit.threads = options.threads;
 
-  // Measures one (position bits, colour bits) pair. same_positions: a candidate with the same
-  // position bits, whose refitted image is reused (Draco quantises attributes independently,
-  // so the decoded positions, and hence the refit, are the same).
+  // The file of an image at given bits and what it measures.
+  auto measure = [&](const Image& colors_from, const CompressOptions& compress, Candidate& c) -> Status {
+    SDVI_ASSIGN_OR_RETURN(c.file, EncodeImage(colors_from, &compress));
+    SDVI_ASSIGN_OR_RETURN(c.decoded, DecodeImage(c.file, "rate control"));
+    SDVI_ASSIGN_OR_RETURN(c.psnr, Psnr(c.decoded, source, options.threads));
+    return Status::Ok();
+  };
+  // Measures one (position bits, colour bits) pair: the file of the vectorizer's colours and,
+  // with the refit, the file of the colours refitted on the quantised positions; the one of
+  // lower cost J is the candidate. same_positions: a candidate with the same position bits,
+  // whose refitted image is reused (Draco quantises attributes independently, so the
+  // quantised positions, and hence the refit, are the same).
   auto evaluate = [&](int position_bits, int color_bits, const Candidate* same_positions) -> StatusOr<Candidate> {
     Candidate c;
     c.position_bits = position_bits;
@@ -76,23 +104,20 @@ StatusOr<RateResult> CompressForRate(const VectorizeResult& vectorized, const Ra
     CompressOptions compress;
     compress.position_bits = position_bits;
     compress.color_bits = color_bits;
-    if (options.refit_colors && same_positions != nullptr) {
-      c.refitted = same_positions->refitted;
-    } else {
-      SDVI_ASSIGN_OR_RETURN(c.file, EncodeImage(image, &compress));
-      SDVI_ASSIGN_OR_RETURN(c.decoded, DecodeImage(c.file, "rate control"));
-      if (options.refit_colors) {
-        // Positions as decoded, colours fitted to them.
-        c.refitted = std::move(c.decoded);
-        SDVI_RETURN_IF_ERROR(FitColors(c.refitted, source, mask, refit).status());
-      }
-    }
-    if (options.refit_colors) {  // then quantised
-      SDVI_ASSIGN_OR_RETURN(c.file, EncodeImage(c.refitted, &compress));
-      SDVI_ASSIGN_OR_RETURN(c.decoded, DecodeImage(c.file, "rate control"));
-    }
-    SDVI_ASSIGN_OR_RETURN(c.psnr, Psnr(c.decoded, source, options.threads));
+    SDVI_RETURN_IF_ERROR(measure(image, compress, c));
     ++result.evaluations;
+    if (!options.refit_colors) return c;
+    Candidate r = c;
+    if (same_positions != nullptr) {
+      r.refitted = same_positions->refitted;
+    } else {
+      SDVI_ASSIGN_OR_RETURN(r.refitted, QuantisedPositions(image, compress));
+      SDVI_RETURN_IF_ERROR(FitColors(r.refitted, source, mask, refit).status());
+    }
+    SDVI_RETURN_IF_ERROR(measure(r.refitted, compress, r));
+    r.colors_refitted = true;
+    if (r.Cost(result.slope_db) < c.Cost(result.slope_db)) return r;
+    c.refitted = std::move(r.refitted);  // for the colour steps
     return c;
   };
 
@@ -126,6 +151,7 @@ StatusOr<RateResult> CompressForRate(const VectorizeResult& vectorized, const Ra
   result.psnr = best.psnr;
   result.position_bits = best.position_bits;
   result.color_bits = best.color_bits;
+  result.colors_refitted = best.colors_refitted;
   return result;
 }
 

@@ -13,9 +13,12 @@
 // (refit colours), render at x1, PSNR.
 //
 // Colours refitted on quantised positions. The colour fit is linear least squares for fixed
-// positions, so after the positions are quantised the colours are fitted again on the decoded
-// positions (FitColors with the vectorizer's options) and only then quantised: the fit
-// absorbs most of what moving the positions cost.
+// positions, so after the positions are quantised the colours can be fitted again on the
+// decoded positions (FitColors with the vectorizer's options, vertex order and triangles
+// kept) and only then quantised: the fit absorbs what moving the positions cost. Each
+// candidate is measured with the vectorizer's colours and with the refitted ones; the one of
+// lower J is kept (the refit wins only where positions moved by more than the fit's own
+// tolerance, spec/RATE.md 3).
 //
 // The PSNR of a result (one number, reported everywhere): CompareImages of the file as a
 // reader decodes it, rendered at x1 (Render, default levels) and rounded to 8 bits as a PNG
@@ -36,7 +39,7 @@ namespace sdvi {
 struct RateOptions {
   double slope_db = 0;        // s of the header comment; 0 = from the vectorizer's history
   double min_psnr = 0;        // the search never accepts a candidate below this PSNR (dB)
-  bool refit_colors = true;   // refit colours on the quantised positions
+  bool refit_colors = true;   // also try colours refitted on the quantised positions
   bool search_bits = true;    // false: the conservative steps only (v1 `--compress`)
   int max_steps = 8;          // bit reductions tried per attribute at most
   int threads = 1;
@@ -47,6 +50,7 @@ struct RateResult {
   Image decoded;              // what a reader of file gets
   double psnr = 0;            // FileQualityPsnr of decoded
   int position_bits = 0, color_bits = 0;
+  bool colors_refitted = false;  // the file holds colours refitted on its positions
   double slope_db = 0;        // s used
   int evaluations = 0;        // candidates measured
 };
