@@ -13,6 +13,8 @@
 //     artwork vs Vectorize of librsvg's raster at the artwork's triangle count: PSNR of each
 //     render against librsvg's raster, the gain; Draco-compressed bytes (as `sdvi compress`)
 //     next to the SVG's gzip -9 size.
+//   --dump DIR (w3c): writes each test's render (NAME-sdvi.png) and librsvg's rendering it was
+//     fitted to (NAME-librsvg.png) into DIR, for looking at the errors.
 //   --outline-only (both tables): outline features only, no detected edges where no outline
 //     explains one (SvgArtworkOptions::detect_uncovered_edges = false), the ablation.
 #include <zlib.h>
@@ -125,6 +127,7 @@ std::vector<fs::path> SvgFiles(const fs::path& dir) {
 }
 
 bool g_outline_only = false;
+std::string g_dump_dir;
 
 int W3cTable(const fs::path& dir, double ratio, double feature_fraction) {
   std::printf("SVG 1.1 tests (%s): sdvi import-svg (artwork, %.0f pixels per vertex) at the reference PNG's "
@@ -167,6 +170,11 @@ int W3cTable(const fs::path& dir, double ratio, double feature_fraction) {
       std::printf("%-24s error: %s\n", svg.stem().c_str(), rendered.status().ToString().c_str());
       ++failures;
       continue;
+    }
+    if (!g_dump_dir.empty()) {
+      const std::string stem = (fs::path(g_dump_dir) / svg.stem()).string();
+      (void)sdvi::SaveRasterPng(stem + "-sdvi.png", *rendered);
+      (void)sdvi::SaveRasterPng(stem + "-librsvg.png", result->reference);
     }
     auto common = sdvi::CompareImages(*rendered, *reference);
     const double white = PsnrOverWhite(*rendered, *reference);
@@ -269,6 +277,8 @@ int main(int argc, char** argv) {
       ratio = std::atof(argv[++i]);
     } else if (!std::strcmp(argv[i], "--feature-fraction") && i + 1 < argc) {
       feature_fraction = std::atof(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--dump") && i + 1 < argc) {
+      g_dump_dir = argv[++i];
     } else if (!std::strcmp(argv[i], "--outline-only")) {
       g_outline_only = true;
     } else if (!std::strcmp(argv[i], "--max-triangles") && i + 1 < argc) {
@@ -280,6 +290,6 @@ int main(int argc, char** argv) {
   if (mode == "w3c") return W3cTable(dir.empty() ? "../shared/data/svg-w3c" : dir, ratio, feature_fraction);
   if (mode == "icons") return IconTable(dir.empty() ? "../shared/data/svg" : dir, width, max_triangles);
   std::fprintf(stderr, "usage: bench_svg w3c [DIR] [--ratio R] | icons [DIR] [--width W] [--max-triangles N]; "
-                       "[--outline-only]\n");
+                       "[--outline-only] [--dump DIR]\n");
   return 2;
 }
