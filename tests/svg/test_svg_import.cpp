@@ -272,3 +272,40 @@ TEST_CASE("svg artwork: a transparent drawing of hairlines is composited over wh
   auto object = sdvi::ImportSvgArtwork(doc, options);
   if (object.ok()) CHECK(object->object_image);
 }
+
+TEST_CASE("svg artwork: a 1 px stroke is one thin feature, sharp on both sides", "[svg][thin]") {
+  // Hairlines on white: a horizontal one covering row 20, a circle of radius 14.
+  const sdvi::SvgDocument doc = Doc(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"80\" height=\"64\">"
+      "<rect width=\"80\" height=\"64\" fill=\"white\"/>"
+      "<path d=\"M 6 20.5 L 74 20.5\" stroke=\"black\" stroke-width=\"1\"/>"
+      "<circle cx=\"40\" cy=\"44\" r=\"14\" fill=\"none\" stroke=\"#c00000\" stroke-width=\"1\"/></svg>");
+  auto reference = sdvi::RenderSvg(doc, 80, 64);
+  auto traced = sdvi::TraceSvgGeometry(doc, 80, 64);
+  REQUIRE(reference.ok());
+  REQUIRE(traced.ok());
+  sdvi::SvgArtworkOptions options;
+  const std::vector<sdvi::FeatureCurve> curves = sdvi::ArtworkFeatures(traced->shapes, *reference, options);
+  REQUIRE(curves.size() == 2);  // the centrelines, not two sides each
+  for (const sdvi::FeatureCurve& c : curves) CHECK(c.width == 1.0f);
+  options.vectorize.max_triangles = 2000;
+  auto result = sdvi::ImportSvgArtwork(doc, options);
+  INFO(result.status().ToString());
+  REQUIRE(result.ok());
+  // Across the line (rows 17..23) and the circle's top and bottom (x = 40), every pixel
+  // within 16 levels of librsvg: both outlines sharp.
+  for (int x : {20, 40, 60}) {
+    for (int y = 17; y <= 23; ++y) {
+      for (int c = 0; c < 3; ++c) {
+        INFO("x " << x << " y " << y);
+        CHECK(std::fabs(result->vectorized.reconstruction.at(x, y, c) - result->reference.at(x, y, c)) < 16.f);
+      }
+    }
+  }
+  for (int y : {27, 28, 29, 30, 31, 57, 58, 59, 60, 61}) {
+    for (int c = 0; c < 3; ++c) {
+      INFO("x 40 y " << y);
+      CHECK(std::fabs(result->vectorized.reconstruction.at(40, y, c) - result->reference.at(40, y, c)) < 16.f);
+    }
+  }
+}

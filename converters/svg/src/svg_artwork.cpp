@@ -17,6 +17,11 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kProbe = 1.5;  // px either side of an outline where the colours are compared
+constexpr double kClaimRadius = 2.0;  // px around a feature where no lower outline becomes one
+// Strokes thinner than this (px) are thin structures: one feature on the centreline with the
+// stroke's width (FeatureCurve::width), whose two outlines the vectorizer places as one unit;
+// two separate sides would come within the claim radius of each other.
+constexpr double kThinStroke = 3.0;
 
 struct Sample {
   Point2 p;
@@ -228,6 +233,7 @@ struct Side {
   bool closed = false;
   double inner_probe = kProbe;  // how far inside the colour is read (thin strokes: less)
   double outward = 0;           // +1 / -1: the outside is along +normal / -normal; 0: either
+  double width = 0;             // > 0: the centreline of a thin stroke this wide
 };
 
 // The window of an outline: the raster grown by the probe, half the stroke and a pixel.
@@ -246,6 +252,10 @@ std::vector<Side> SidesOf(const SvgShape& shape, const SvgOutline& outline, cons
   }
   const double half = shape.stroke_width / 2;
   if (half <= 0) return sides;
+  if (shape.stroke_width < kThinStroke) {
+    sides.push_back({std::move(centre), outline.closed, kProbe, 0, shape.stroke_width});
+    return sides;
+  }
   for (double sign : {1.0, -1.0}) {
     Side side;
     side.closed = outline.closed;
@@ -285,7 +295,7 @@ double Median(std::vector<double> v) {
 
 // Fits one run of accepted samples (indices into side.samples, in order) and appends it.
 void EmitRun(const Side& side, const std::vector<size_t>& run, bool closed, const std::vector<double>& contrast,
-             bool stroke, const SvgArtworkOptions& o, std::vector<FeatureCurve>* out) {
+             bool stroke_side, const SvgArtworkOptions& o, std::vector<FeatureCurve>* out) {
   std::vector<Point2> points;
   std::vector<uint32_t> corners;
   std::vector<double> steps;
@@ -295,7 +305,7 @@ void EmitRun(const Side& side, const std::vector<size_t>& run, bool closed, cons
     if (!points.empty()) length += Norm(Sub(s.p, points.back()));
     // A stroke side is offset from the centreline: at a kink it jumps (the join fills the
     // gap), so stroke sides are cut at corners instead of kept as kinks.
-    if (s.corner && !stroke && k > 0 && (closed || k + 1 < run.size())) corners.push_back(uint32_t(points.size()));
+    if (s.corner && !stroke_side && k > 0 && (closed || k + 1 < run.size())) corners.push_back(uint32_t(points.size()));
     points.push_back(s.p);
     steps.push_back(contrast[run[k]]);
   }
@@ -308,6 +318,7 @@ void EmitRun(const Side& side, const std::vector<size_t>& run, bool closed, cons
   curve.sharpness = 1.0f;
   curve.boundary = false;
   curve.contrast = float(Median(steps));
+  curve.width = float(side.width);
   out->push_back(std::move(curve));
 }
 
@@ -361,17 +372,16 @@ void CompositeOverWhite(Raster& r) {
 // Edges of the reference that no outline feature explains (text librsvg draws as glyphs
 // it does not trace, patterns, images, filters, a trace cut short): the vectorizer's edge
 // detection on the fitted raster, without the domain contours, each curve cut where it
-// comes within claim_radius px of an outline feature and the pieces of at least
+// comes within kClaimRadius px (plus half a thin stroke) of an outline feature and the pieces of at least
 // min_length px refitted.
 std::vector<FeatureCurve> UncoveredEdges(const Raster& fitted, const std::vector<FeatureCurve>& outline_features,
                                          const SvgArtworkOptions& o) {
   std::vector<FeatureCurve> out;
   StatusOr<std::vector<FeatureCurve>> detected = DetectFeatures(fitted, nullptr, o.vectorize.features);
   if (!detected.ok()) return out;
-  const double claim_radius = 2.0;
   ClaimMap claimed(fitted.width, fitted.height);
   for (const FeatureCurve& c : outline_features) {
-    for (const Point2& p : SampleFeatureCurve(c, 8)) claimed.Claim(p, claim_radius);
+    for (const Point2& p : SampleFeatureCurve(c, 8)) claimed.Claim(p, kClaimRadius + c.width / 2);
   }
   BSplineFitOptions fit;
   fit.tolerance = o.vectorize.features.fit_tolerance;
@@ -422,12 +432,11 @@ std::vector<FeatureCurve> ArtworkFeatures(const std::vector<SvgShape>& shapes, c
                                           const SvgArtworkOptions& o) {
   std::vector<FeatureCurve> curves;
   ClaimMap claimed(reference.width, reference.height);
-  const double claim_radius = 2.0;
   // Top-most first: where two outlines coincide, the visible (upper) one is kept.
   for (auto shape = shapes.rbegin(); shape != shapes.rend(); ++shape) {
-    const bool stroke = shape->paint == SvgPaint::kStroke;
     for (const SvgOutline& outline : shape->outlines) {
       for (const Side& side : SidesOf(*shape, outline, reference, o)) {
+        const bool stroke_side = shape->paint == SvgPaint::kStroke && side.width == 0;
         const size_t n = side.samples.size();
         std::vector<double> contrast(n, -1);
         std::vector<uint8_t> accept(n, 0);
@@ -435,12 +444,21 @@ std::vector<FeatureCurve> ArtworkFeatures(const std::vector<SvgShape>& shapes, c
           const Sample& s = side.samples[i];
           if (claimed.Claimed(s.p)) continue;
           const Point2 nrm = s.normal;
+          if (side.width > 0) {
+            // A thin stroke: its centre against kProbe px beyond either outline; the larger step.
+            const double out_d = side.width / 2 + kProbe;
+            const Point2 a{s.p.x + out_d * nrm.x, s.p.y + out_d * nrm.y};
+            const Point2 b{s.p.x - out_d * nrm.x, s.p.y - out_d * nrm.y};
+            contrast[i] = std::max(Contrast(reference, a, s.p), Contrast(reference, b, s.p));
+            accept[i] = contrast[i] >= o.min_contrast ? 1 : 0;
+            continue;
+          }
           double out_d = kProbe, in_d = side.inner_probe;
           const double dir = side.outward != 0 ? side.outward : 1.0;
           const Point2 a{s.p.x + dir * out_d * nrm.x, s.p.y + dir * out_d * nrm.y};
           const Point2 b{s.p.x - dir * in_d * nrm.x, s.p.y - dir * in_d * nrm.y};
           contrast[i] = Contrast(reference, a, b);
-          accept[i] = contrast[i] >= o.min_contrast && !(stroke && s.corner) ? 1 : 0;
+          accept[i] = contrast[i] >= o.min_contrast && !(stroke_side && s.corner) ? 1 : 0;
         }
         // Runs of accepted samples; a closed side accepted everywhere stays closed.
         const bool all = std::all_of(accept.begin(), accept.end(), [](uint8_t a) { return a != 0; });
@@ -448,7 +466,7 @@ std::vector<FeatureCurve> ArtworkFeatures(const std::vector<SvgShape>& shapes, c
         const size_t before = curves.size();
         if (all && side.closed) {
           for (size_t i = 0; i < n; ++i) run.push_back(i);
-          EmitRun(side, run, true, contrast, stroke, o, &curves);
+          EmitRun(side, run, true, contrast, stroke_side, o, &curves);
         } else {
           size_t start = 0;
           if (side.closed) {
@@ -461,13 +479,14 @@ std::vector<FeatureCurve> ArtworkFeatures(const std::vector<SvgShape>& shapes, c
               run.push_back(i);
               continue;
             }
-            if (!run.empty()) EmitRun(side, run, false, contrast, stroke, o, &curves);
+            if (!run.empty()) EmitRun(side, run, false, contrast, stroke_side, o, &curves);
             run.clear();
             if (!side.closed && k >= n) break;
           }
         }
         for (size_t c = before; c < curves.size(); ++c) {
-          for (const Point2& p : SampleFeatureCurve(curves[c], 8)) claimed.Claim(p, claim_radius);
+          const double radius = kClaimRadius + curves[c].width / 2;
+          for (const Point2& p : SampleFeatureCurve(curves[c], 8)) claimed.Claim(p, radius);
         }
       }
     }

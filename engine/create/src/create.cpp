@@ -636,6 +636,7 @@ StatusOr<Image> CreateFromCurves(const CurveDrawing& drawing, const CreateOption
   mesh_options.min_angle_deg = options.min_angle_deg;
   mesh_options.max_edge = float(max_edge);
   mesh_options.clearance = options.clearance;
+  mesh_options.fine_cuts = false;  // ColorPairs finds each pair vertex among the control points
   SDVI_ASSIGN_OR_RETURN(Image image, BuildControlMesh(drawing.width, drawing.height, features, {}, mesh_options));
   if (image.pairs.empty())
     return Status(StatusCode::kEmptyInput, "CreateFromCurves: no curve lies inside the " +

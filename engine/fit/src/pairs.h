@@ -38,8 +38,18 @@ struct PlacedFeatures {
 //  - each feature, longest first: its polygon offset along averaged (mitred) normals by
 //    +-d/2, d = max(min_distance, rho (1 - sharpness)) (use_sharpness = false: d = rho;
 //    pairs = false: the polygon itself, once); segments that would cross or come within
-//    the clearance of an already placed polyline, or leave the domain, are cut out and
-//    the remaining runs (>= 2 segments) become features of their own;
+//    the clearance of an already placed polyline, or leave the domain (the bad ones on
+//    straight parts split into pieces of at most 2 x clearance and tested again: fine
+//    cuts, unless options.fine_cuts is false), are cut out and
+//    the remaining runs (>= 2 segments) become features of their own; a polyline may not
+//    come within min(0.25, 0.4 d) of itself except between segments joined by less than
+//    twice that much polygon (a short segment at a corner); a segment shorter than 0.01 px
+//    is cut out with its neighbours;
+//  - a thin structure (FeatureCurve::width w > 0, its curve the centreline): its polylines
+//    at +-(w/2 + d/2) and +-(w/2 - d/2), pairs (0, 1) and (2, 3), when w - d >= min_distance
+//    / 2; else at +-(w/2 + d/2) and 0, pairs (0, 1) and (1, 2) sharing the centre; cut as one
+//    unit, then, where cut, its two outlines (+-w/2) are placed as ordinary features where
+//    they fit (pairs = false: the outlines +-w/2, or the centre alone when w < clearance);
 //  - interior samples inside the domain and clear of every polyline, deduplicated.
 StatusOr<PlacedFeatures> PlaceFeatures(int width, int height, const std::vector<FeatureCurve>& curves,
                                        const std::vector<Point2>& interior_samples,

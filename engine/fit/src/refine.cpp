@@ -67,8 +67,9 @@ std::vector<uint8_t> BlockedPixels(const Raster& target, const Raster* mask, con
       if (!InDomain(target, mask, x, y)) blocked(y, x) = 1;
     }
   }
-  const int thickness = std::max(1, int(std::lround(2 * clearance)));
-  auto segment = [&](double x0, double y0, double x1, double y1) {
+  // A thin structure's curve is its centreline: its polylines reach width / 2 further.
+  auto segment = [&](double x0, double y0, double x1, double y1, double width = 0) {
+    const int thickness = std::max(1, int(std::lround(2 * clearance + width)));
     cv::line(blocked, FixedPoint(x0, y0), FixedPoint(x1, y1), cv::Scalar(1), thickness,
              cv::LINE_8, 4);
   };
@@ -85,7 +86,7 @@ std::vector<uint8_t> BlockedPixels(const Raster& target, const Raster* mask, con
       for (size_t k = 0; k + 1 < n + (c.closed ? 1 : 0); ++k) {
         const Point2& a = c.points[k];
         const Point2& b = c.points[(k + 1) % n];
-        segment(a.x, a.y, b.x, b.y);
+        segment(a.x, a.y, b.x, b.y, c.width > 0 ? c.width : 0);
       }
     }
   }

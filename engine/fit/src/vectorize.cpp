@@ -45,7 +45,8 @@ double CurveLength(const FeatureCurve& c) {
 }
 
 // Keeps the boundary curves and the longest other curves whose polylines (twice, when
-// paired) fit in `vertex_budget` control vertices; the kept curves stay in input order.
+// paired; a thin structure's up to twice that) fit in `vertex_budget` control vertices;
+// the kept curves stay in input order.
 std::vector<FeatureCurve> KeepFeaturesWithinBudget(const std::vector<FeatureCurve>& curves,
                                                    double vertex_budget, bool pairs) {
   std::vector<size_t> order(curves.size());
@@ -61,7 +62,7 @@ std::vector<FeatureCurve> KeepFeaturesWithinBudget(const std::vector<FeatureCurv
       keep[i] = 1;
       continue;
     }
-    const double cost = double(curves[i].points.size()) * (pairs ? 2 : 1);
+    const double cost = double(curves[i].points.size()) * (pairs ? 2 : 1) * (curves[i].width > 0 ? 2 : 1);
     if (used + cost > vertex_budget) continue;
     used += cost;
     keep[i] = 1;

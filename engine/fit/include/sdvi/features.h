@@ -29,6 +29,9 @@ struct FeatureCurve {
                                   // bounds the domain, is not paired
   float contrast = 0;             // median colour step across the edge (0..255 units, RMS
                                   // over channels); 0 for boundary curves
+  float width = 0;                // > 0: a thin structure (a hairline): `points` is its
+                                  // centreline and it has two colour discontinuities, the
+                                  // outlines width px apart, placed as one unit (src/pairs.h)
 };
 
 // Edge detection (paper step 1): the image (RGB or grey) is smoothed with a Gaussian of
@@ -103,6 +106,10 @@ struct ControlMeshOptions {
                              // from features to the boundary and to interior samples), px
   // Where the size bound applies (not owned); null: everywhere.
   const ContentBlocks* content = nullptr;
+  bool fine_cuts = true;     // split straight segments cut for a conflict into pieces of
+                             // 2 x clearance and test again (src/pairs.h); false: every
+                             // placed vertex is a point of the given curves (or a split of
+                             // a segment longer than 0.7 max_edge)
 };
 
 // Distance between the two polylines of a feature pair (paper section IV step 3):
