@@ -14,7 +14,7 @@
 //     render against librsvg's raster, the gain; Draco-compressed bytes (as `sdvi compress`)
 //     next to the SVG's gzip -9 size.
 //   --dump DIR (w3c): writes each test's render (NAME-sdvi.png) and librsvg's rendering it was
-//     fitted to (NAME-librsvg.png) into DIR, for looking at the errors.
+//     fitted to (NAME-librsvg.png) into DIR (created), for looking at the errors.
 //   --outline-only (both tables): outline features only, no detected edges where no outline
 //     explains one (SvgArtworkOptions::detect_uncovered_edges = false), the ablation.
 #include <zlib.h>
@@ -27,6 +27,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "sdvi/codec.h"
@@ -279,6 +280,12 @@ int main(int argc, char** argv) {
       feature_fraction = std::atof(argv[++i]);
     } else if (!std::strcmp(argv[i], "--dump") && i + 1 < argc) {
       g_dump_dir = argv[++i];
+      std::error_code error;
+      fs::create_directories(g_dump_dir, error);
+      if (error) {
+        std::fprintf(stderr, "bench_svg: cannot create %s: %s\n", g_dump_dir.c_str(), error.message().c_str());
+        return 1;
+      }
     } else if (!std::strcmp(argv[i], "--outline-only")) {
       g_outline_only = true;
     } else if (!std::strcmp(argv[i], "--max-triangles") && i + 1 < argc) {
