@@ -23,6 +23,7 @@ void RegisterExportGltf(CLI::App& app, Outcome& outcome);  // cmd_gltf.cpp: .sdv
 void RegisterCompress(CLI::App& app, Outcome& outcome);    // cmd_codec.cpp: raw -> Draco payload
 void RegisterDecompress(CLI::App& app, Outcome& outcome);  // cmd_codec.cpp: Draco -> raw payload
 void RegisterExportPdf(CLI::App& app, Outcome& outcome);   // cmd_pdf.cpp: .sdvi -> PDF (ShadingType 4)
+void RegisterExportSvg(CLI::App& app, Outcome& outcome);   // cmd_svg_export.cpp: .sdvi -> SVG 1.1 (flat triangles)
 void RegisterEdit(CLI::App& app, Outcome& outcome);        // cmd_edit.cpp: edit a vectorized image
 
 // cmd_edit.cpp: `sdvi info --features`, the feature table (spec/EDIT.md); returns the exit code.

@@ -52,6 +52,7 @@ int main(int argc, char** argv) {
   sdvi::cli::RegisterCompress(app, outcome);
   sdvi::cli::RegisterDecompress(app, outcome);
   sdvi::cli::RegisterExportPdf(app, outcome);
+  sdvi::cli::RegisterExportSvg(app, outcome);
   sdvi::cli::RegisterEdit(app, outcome);
   sdvi::cli::RegisterSample(app, outcome);
   RegisterHelp(app, outcome);

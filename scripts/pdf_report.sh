@@ -96,20 +96,21 @@ echo
 echo "Size and in-process write time against cairo's mesh pattern (ShadingType 7) of the same surface;"
 echo "then the best case of a flat-shaded SVG at the PDF's level, one coarser and one finer:"
 echo
-mkdir -p "$out/svg"
-"$bench" "${sdvis[@]}" --svg-dir "$out/svg"
+"$bench" "${sdvis[@]}" --svg
 
-# The coarsest of those SVGs (one level below the PDF's) as Chromium draws it, against the
-# same `sdvi render` drawings as above (README "Vector output").
+# `sdvi export-svg` (its default level, one below the PDF's) as Chromium draws it, against the
+# same `sdvi render` drawings as above (spec/SVG_EXPORT.md).
 [ $have_pdfjs = 1 ] || exit 0
+mkdir -p "$out/svg"
 echo
-echo "Flat-shaded SVG one level below the PDF's, drawn by Chromium (crispEdges), vs \`sdvi render\`:"
+echo "\`sdvi export-svg\` (flat-shaded, one level below the PDF's), drawn by Chromium (crispEdges), vs \`sdvi render\`:"
 echo
 echo "| image | SVG | SVG bytes | SVG / PDF | Chromium x1 dB | Chromium x4 dB |"
 echo "|---|---|---|---|---|---|"
 for sdvi_file in "${sdvis[@]}"; do
   name=$(basename "${sdvi_file%.*}")
-  svg=$(ls "$out/svg/${name}"_r*.svg | sort | head -1)
+  svg=$out/svg/$name.svg
+  "$sdvi" export-svg "$sdvi_file" -o "$svg" --quiet
   info=$("$sdvi" info "$sdvi_file" --json | tr -d '\n ')
   w=$(json "$info" width); h=$(json "$info" height)
   cells=""

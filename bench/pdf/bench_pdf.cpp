@@ -1,19 +1,17 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// bench_pdf IN.sdvi... [--levels r] [--svg] [--svg-dir DIR]: for each file, the PDF export (type-4 strips, spec/PDF.md)
+// bench_pdf IN.sdvi... [--levels r] [--svg]: for each file, the PDF export (type-4 strips, spec/PDF.md)
 // against the size baseline of issue 12: cairo's PDF surface with a mesh pattern holding
 // the same fine triangles (one Coons patch per triangle, which cairo writes as ShadingType 7),
 // both measured in this run. Prints one table row per file:
 //   level, fine triangles, records/triangle, sdvi PDF bytes, bytes/triangle, write ms,
 //   cairo bytes, cairo ms, cairo / sdvi.
-// --svg adds a second table, the case for an SVG export (README, "Why PDF"): SVG 1.1 can
-// only fill a triangle with one colour, so the best an SVG of the same fine triangles can
-// show is the flat-shaded mesh (colour = mean of the three vertices) with no seams at all.
-// That upper bound is rendered by sdvi's own rasteriser and compared with the Gouraud-shaded
-// mesh at x1 and x4 (x4: the central 1024 x 1024 output pixels), and the bytes of the most
-// compact SVG text for it (one <path d="M..L..Z" fill="#rrggbb"/> per triangle, coordinates
-// with one decimal, crispEdges) are counted against the PDF's, at the PDF's level, one
-// coarser and one finer. --svg-dir writes the coarsest of them (DIR/<name>_r<level>.svg) for
-// a browser (scripts/svg_viewer.mjs; scripts/pdf_report.sh).
+// --svg adds a second table, the flat-shaded SVG export's case (spec/SVG_EXPORT.md): SVG 1.1
+// can only fill a triangle with one colour, so the best an SVG of the same fine triangles
+// can show is the flat-shaded mesh (colour = mean of the three vertices) with no seams at
+// all. That upper bound is rendered by sdvi's own rasteriser and compared with the
+// Gouraud-shaded mesh at x1 and x4 (x4: the central 1024 x 1024 output pixels), and the
+// bytes of `sdvi export-svg`'s document for it (EncodeSvg) are counted against the PDF's,
+// at the PDF's level (export-svg's default is one coarser), one coarser and one finer.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -28,6 +26,7 @@
 #include "sdvi/codec.h"
 #include "sdvi/file_util.h"
 #include "sdvi/pdf.h"
+#include "sdvi/svg_export.h"
 #include "sdvi/render.h"
 #include "sdvi/subdiv.h"
 
@@ -81,31 +80,9 @@ size_t CairoMeshPdfBytes(const sdvi::Image& image, int levels, double* ms) {
   return ok ? bytes : 0;
 }
 
-// The most compact SVG 1.1 text of the flat-shaded fine mesh (one <path> per triangle;
-// crispEdges: no anti-aliasing, so triangles sharing an edge leave no seam between them).
-std::string FlatSvg(const sdvi::Image& image, const std::vector<sdvi::Triangle>& triangles,
-                    const std::vector<sdvi::Vertex>& fine, const std::vector<sdvi::Vertex>& flat) {
-  std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + std::to_string(image.width) +
-                    "\" height=\"" + std::to_string(image.height) + "\" viewBox=\"0 0 " +
-                    std::to_string(image.width) + " " + std::to_string(image.height) +
-                    "\" shape-rendering=\"crispEdges\">\n";
-  char buffer[256];
-  for (size_t t = 0; t < triangles.size(); ++t) {
-    const auto& v = triangles[t].v;
-    const sdvi::Vertex& c = flat[3 * t];
-    auto clamp8 = [](float x) { return int(std::lround(std::clamp(x, 0.0f, 255.0f))); };
-    std::snprintf(buffer, sizeof buffer, "<path d=\"M%.1f %.1fL%.1f %.1f %.1f %.1fZ\" fill=\"#%02x%02x%02x\"/>\n",
-                  fine[v[0]].x, fine[v[0]].y, fine[v[1]].x, fine[v[1]].y, fine[v[2]].x, fine[v[2]].y,
-                  clamp8(c.r), clamp8(c.g), clamp8(c.b));
-    svg += buffer;
-  }
-  return svg + "</svg>\n";
-}
-
 // One row of the SVG table: flat vs Gouraud PSNR at x1 and x4 (upper bounds for an SVG
 // viewer), SVG bytes and their ratio to the PDF's.
-void SvgRow(const std::string& name, const sdvi::Image& image, int levels, size_t pdf_bytes,
-            const std::string& svg_dir) {
+void SvgRow(const std::string& name, const sdvi::Image& image, int levels, size_t pdf_bytes) {
   sdvi::LimitSurfaceOptions options;
   options.levels = levels;
   auto surface = sdvi::BuildLimitSurface(image, options);
@@ -137,13 +114,10 @@ void SvgRow(const std::string& name, const sdvi::Image& image, int levels, size_
     auto metrics = sdvi::CompareImages(flat_raster, gouraud);
     psnr[i] = metrics.ok() ? metrics->psnr : 0;
   }
-  const std::string text = FlatSvg(image, surface->triangles, fine, flat);
-  const size_t svg = text.size();
-  if (!svg_dir.empty()) {
-    const std::string path = svg_dir + "/" + name.substr(0, name.find_last_of('.')) + "_r" + std::to_string(levels) + ".svg";
-    const sdvi::Status written = sdvi::WriteFileAtomic(path, text.data(), text.size());
-    if (!written.ok()) std::fprintf(stderr, "%s\n", written.ToString().c_str());
-  }
+  sdvi::SvgExportOptions svg_options;
+  svg_options.levels = levels;
+  auto exported = sdvi::EncodeSvg(image, svg_options);
+  const size_t svg = exported.ok() ? exported->bytes.size() : 0;
   std::printf("| %s | %d | %zu | %.2f | %.2f | %zu | %.1f |\n", name.c_str(), levels,
               surface->triangles.size(), psnr[0], psnr[1], svg, double(svg) / double(pdf_bytes));
   std::fflush(stdout);
@@ -155,25 +129,21 @@ int main(int argc, char** argv) {
   std::vector<std::string> files;
   int levels = -1;
   bool svg = false;
-  std::string svg_dir;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--levels" && i + 1 < argc) {
       levels = std::atoi(argv[++i]);
     } else if (a == "--svg") {
       svg = true;
-    } else if (a == "--svg-dir" && i + 1 < argc) {
-      svg = true;
-      svg_dir = argv[++i];
     } else if (!a.empty() && a[0] != '-') {
       files.push_back(a);
     } else {
-      std::fprintf(stderr, "usage: bench_pdf IN.sdvi... [--levels r] [--svg] [--svg-dir DIR]\n");
+      std::fprintf(stderr, "usage: bench_pdf IN.sdvi... [--levels r] [--svg]\n");
       return 2;
     }
   }
   if (files.empty()) {
-    std::fprintf(stderr, "usage: bench_pdf IN.sdvi... [--levels r] [--svg] [--svg-dir DIR]\n");
+    std::fprintf(stderr, "usage: bench_pdf IN.sdvi... [--levels r] [--svg]\n");
     return 2;
   }
   std::printf("| file | level | fine triangles | records/tri | bits xy/rgb | sdvi PDF bytes | bytes/tri | "
@@ -221,8 +191,7 @@ int main(int argc, char** argv) {
     std::printf("|---|---|---|---|---|---|---|\n");
     for (const SvgInput& in : svg_rows) {
       for (int r : {in.levels - 1, in.levels, in.levels + 1}) {
-        // Only the coarsest SVG is written (the finer ones run to hundreds of MB).
-        if (r >= 0) SvgRow(in.name, in.image, r, in.pdf_bytes, r == std::max(0, in.levels - 1) ? svg_dir : "");
+        if (r >= 0) SvgRow(in.name, in.image, r, in.pdf_bytes);
       }
     }
   }

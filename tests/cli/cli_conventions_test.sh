@@ -18,7 +18,7 @@ expect() {
   [ "$got" = "$code" ] || fail "sdvi $* exited $got, expected $code: $(head -c 400 "$work/err")"
 }
 
-commands="vectorize import-svg render compare info convert subdivide export-gltf export-pdf edit compress decompress sample"
+commands="vectorize import-svg render compare info convert subdivide export-gltf export-pdf export-svg edit compress decompress sample"
 for c in $commands; do
   expect 0 "$c" --help
   grep -q "Examples:" "$work/out" || fail "$c --help has no examples"

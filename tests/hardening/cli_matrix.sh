@@ -42,6 +42,8 @@ every_reader() {
   expect "$code" "$in" "$WORK/o.json" -- convert "$in" "$WORK/o.json"
   expect "$code" "$in" "$WORK/o.ply" -- subdivide "$in" --levels 1 -o "$WORK/o.ply"
   expect "$code" "$in" "$WORK/o.glb" -- export-gltf "$in" -o "$WORK/o.glb"
+  expect "$code" "$in" "$WORK/o.pdf" -- export-pdf "$in" -o "$WORK/o.pdf"
+  expect "$code" "$in" "$WORK/o.svg" -- export-svg "$in" -o "$WORK/o.svg"
   expect "$code" "$in" "$WORK/o.sdvi" -- compress "$in" -o "$WORK/o.sdvi"
   expect "$code" "$in" "$WORK/o.sdvi" -- decompress "$in" -o "$WORK/o.sdvi"
 }

@@ -11,6 +11,9 @@
 #                                                   backend), mutool draw (MuPDF)
 #   viewer_test.sh SDVI FIXTURE WORK_DIR pdfjs ROOT  pdf.js in headless Chromium
 #                                                   (scripts/pdf_viewer.mjs)
+#   viewer_test.sh SDVI FIXTURE WORK_DIR svg ROOT    `sdvi export-svg` instead of the PDF,
+#                                                   drawn by Chromium's SVG renderer
+#                                                   (scripts/svg_viewer.mjs)
 # Exit 77 (ctest SKIP) only when a viewer is missing (poppler-utils, mupdf-tools; node,
 # scripts/npm's pdfjs-dist and playwright-core, chromium).
 set -u
@@ -23,9 +26,12 @@ if [ "$kind" = native ]; then
       { echo "SKIP: $tool is not installed (Debian packages poppler-utils, mupdf-tools)"; exit 77; }
   done
 else
-  viewers=(pdfjs)
+  viewers=($kind)
+  [ "$kind" = svg ] && viewers=(chromium)
   command -v node >/dev/null 2>&1 || { echo "SKIP: node is not installed"; exit 77; }
-  for pkg in pdfjs-dist playwright-core; do
+  packages=(pdfjs-dist playwright-core)
+  [ "$kind" = svg ] && packages=(playwright-core)
+  for pkg in "${packages[@]}"; do
     [ -f "$root/scripts/npm/node_modules/$pkg/package.json" ] ||
       { echo "SKIP: npm package $pkg missing: run npm install in scripts/npm"; exit 77; }
   done
@@ -35,10 +41,15 @@ rm -rf "$work" && mkdir -p "$work" || exit 1
 
 cases=()
 pdfjs_args=()
+svg_args=()
 for spec in "gradient 96 64" "annulus 80 60"; do
   read -r image w h <<<"$spec"
   "$fixture" sdvi "$image" "$w" "$h" "$work/$image.sdvi" || { echo "FAIL: fixture $image"; exit 1; }
-  "$fixture" pdf "$work/$image.sdvi" "$work/$image.pdf" >/dev/null || { echo "FAIL: export $image"; exit 1; }
+  if [ "$kind" = svg ]; then
+    "$sdvi" export-svg "$work/$image.sdvi" -o "$work/$image.svg" --quiet || { echo "FAIL: export-svg $image"; exit 1; }
+  else
+    "$fixture" pdf "$work/$image.sdvi" "$work/$image.pdf" >/dev/null || { echo "FAIL: export $image"; exit 1; }
+  fi
   for scale in 1 4; do
     ow=$((w * scale)) oh=$((h * scale)) base="$work/${image}_x$scale"
     "$sdvi" render "$work/$image.sdvi" -o "${base}_sdvi.png" --width $ow --height $oh >/dev/null ||
@@ -49,6 +60,8 @@ for spec in "gradient 96 64" "annulus 80 60"; do
       pdftocairo -png -singlefile -transp -scale-to-x $ow -scale-to-y $oh "$work/$image.pdf" "${base}_pdftocairo" &&
       mutool draw -q -c rgba -w $ow -h $oh -o "${base}_mutool.png" "$work/$image.pdf" 1 ||
         { echo "FAIL: a viewer could not draw $work/$image.pdf"; exit 1; }
+    elif [ "$kind" = svg ]; then
+      svg_args+=(--scale $scale "$work/$image.svg" -o "${base}_chromium.png")
     else
       pdfjs_args+=(--scale $scale "$work/$image.pdf" -o "${base}_pdfjs.png")
     fi
@@ -56,6 +69,9 @@ for spec in "gradient 96 64" "annulus 80 60"; do
 done
 if [ "$kind" = pdfjs ]; then
   node "$root/scripts/pdf_viewer.mjs" "${pdfjs_args[@]}" >/dev/null || { echo "FAIL: pdf.js"; exit 1; }
+fi
+if [ "$kind" = svg ]; then
+  node "$root/scripts/svg_viewer.mjs" "${svg_args[@]}" >/dev/null || { echo "FAIL: Chromium"; exit 1; }
 fi
 
 status=0
