@@ -94,16 +94,16 @@ echo "|---|---|---|---|---|---|---|---|---|---|---|"
 printf '%s\n' "${rows[@]}"
 echo
 echo "Size and in-process write time against cairo's mesh pattern (ShadingType 7) of the same surface;"
-echo "then the best case of a flat-shaded SVG at the PDF's level, one coarser and one finer:"
+echo "then the flat-shaded SVG export's text at the PDF's level, one coarser and one finer:"
 echo
 "$bench" "${sdvis[@]}" --svg
 
-# `sdvi export-svg` (its default level, one below the PDF's) as Chromium draws it, against the
+# `sdvi export-svg` (its default level: one below the PDF's, or the PDF's) as Chromium draws it, against the
 # same `sdvi render` drawings as above (spec/SVG_EXPORT.md).
 [ $have_pdfjs = 1 ] || exit 0
 mkdir -p "$out/svg"
 echo
-echo "\`sdvi export-svg\` (flat-shaded, one level below the PDF's), drawn by Chromium (crispEdges), vs \`sdvi render\`:"
+echo "\`sdvi export-svg\` (flat-shaded, its default level), drawn by Chromium (crispEdges), vs \`sdvi render\`:"
 echo
 echo "| image | SVG | SVG bytes | SVG / PDF | Chromium x1 dB | Chromium x4 dB |"
 echo "|---|---|---|---|---|---|"
