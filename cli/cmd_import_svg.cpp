@@ -149,10 +149,10 @@ void RegisterImportSvg(CLI::App& app, Outcome& outcome) {
       "turn an SVG drawing into a .sdvi: its exact outlines become sharp features, colours fitted to librsvg's rendering (spec/SVG.md)",
       {"sdvi import-svg logo.svg -o logo.sdvi", "sdvi import-svg icon.svg -o icon.sdvi --width 512 --max-triangles 4000",
        "sdvi import-svg art.svg -o art.sdvi --scale 2 --report report.json",
-       "sdvi import-svg examples/curves/cherries.svg -o cherries.sdvi --mode curves"});
-  MarkInput(c, r->input);
-  c->add_option("input", r->input, "the SVG file ('-' reads standard input)")->required()->type_name("IN.svg");
+       "sdvi import-svg examples/curves/cherries.svg -o cherries.sdvi --mode curves",
+       "sdvi import-svg icons/ -O out/ -j 2   # icons/NAME.svg -> out/NAME.sdvi"});
   AddOutput(c, r->output, "the .sdvi file to write");
+  AddInputs(c, r->input, "the SVG file ('-' reads standard input)", {{"svg"}, "sdvi", "", {"--debug-dir", "--report"}});
   c->add_option("--mode", r->mode,
                 "artwork: the SVG's shapes and colours; curves: paths with sdvi:left-color, sdvi:right-color, "
                 "sdvi:sharpness (spec/CURVES.md), colours diffused between them")

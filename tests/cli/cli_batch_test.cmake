@@ -7,7 +7,8 @@
 #     no stray file, one JSON report line per input with the right status;
 #   - a rerun skips the finished outputs; without the broken file it skips everything and
 #     exits 0; --overwrite redoes them;
-#   - render (a glob), compress, decompress, export-gltf, export-pdf: the same bytes as single runs;
+#   - render (a glob), compress, decompress, export-gltf, export-pdf, export-svg, import-svg
+#     (a directory of SVGs written here): the same bytes as single runs;
 #   - on a terminal, one progress bar over the files (none with --quiet);
 #   - a per-job memory limit too small for any job fails every job (exit 1);
 #   - usage errors exit 2 and write nothing.
@@ -154,6 +155,16 @@ run_sdvi(0 compress ${WORK}/out2 -O ${WORK}/small -j 2 --speed 5 --quiet)
 run_sdvi(0 decompress ${WORK}/small -O ${WORK}/raw --quiet)
 run_sdvi(0 export-gltf ${WORK}/out2/a.sdvi ${WORK}/out2/b.sdvi -O ${WORK}/glb --levels 2 --quiet)
 run_sdvi(0 export-pdf ${WORK}/out2 -O ${WORK}/pdf --dpi 150 --quiet)
+run_sdvi(0 export-svg ${WORK}/out2 -O ${WORK}/svgout --levels 1 --quiet)
+# import-svg over a directory of SVGs written here.
+file(MAKE_DIRECTORY ${WORK}/svgin)
+file(WRITE ${WORK}/svgin/disc.svg "<svg xmlns='http://www.w3.org/2000/svg' width='64' height='48'><rect width='64' height='48' fill='#20a040'/><circle cx='30' cy='24' r='14' fill='#e03020'/></svg>\n")
+file(WRITE ${WORK}/svgin/bars.svg "<svg xmlns='http://www.w3.org/2000/svg' width='64' height='48'><rect width='64' height='48' fill='#ffffff'/><rect x='8' y='6' width='20' height='36' fill='#3050d0'/><path d='M36 6L58 42' stroke='#000' stroke-width='2'/></svg>\n")
+run_sdvi(0 import-svg ${WORK}/svgin -O ${WORK}/svgsdvi -j 2 --quiet)
+foreach(name disc bars)
+  run_sdvi(0 import-svg ${WORK}/svgin/${name}.svg -o ${WORK}/${name}_single.sdvi --quiet)
+  expect_same(${WORK}/svgsdvi/${name}.sdvi ${WORK}/${name}_single.sdvi)
+endforeach()
 foreach(name a)
   run_sdvi(0 render ${WORK}/out2/${name}.sdvi -o ${WORK}/${name}_single.png --scale 2 --quiet)
   expect_same(${WORK}/png/${name}.png ${WORK}/${name}_single.png)
@@ -167,9 +178,12 @@ foreach(name a)
   expect_same(${WORK}/glb/${name}.glb ${WORK}/${name}_single.glb)
   run_sdvi(0 export-pdf ${WORK}/out2/${name}.sdvi -o ${WORK}/${name}_single.pdf --dpi 150 --quiet)
   expect_same(${WORK}/pdf/${name}.pdf ${WORK}/${name}_single.pdf)
+  run_sdvi(0 export-svg ${WORK}/out2/${name}.sdvi -o ${WORK}/${name}_single.svg --levels 1 --quiet)
+  expect_same(${WORK}/svgout/${name}.svg ${WORK}/${name}_single.svg)
 endforeach()
 expect_files(${WORK}/png a.png b.png c.png)
 expect_files(${WORK}/pdf a.pdf b.pdf c.pdf)
+expect_files(${WORK}/svgout a.svg b.svg c.svg)
 expect_files(${WORK}/glb a.glb b.glb)
 
 # A per-job memory limit no job fits in (sdvi itself is resident over 64 MiB): every job is
