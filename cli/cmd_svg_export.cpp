@@ -64,8 +64,8 @@ void RegisterExportSvg(CLI::App& app, Outcome& outcome) {
   AddOutput(c, a->output, "OUT.svg");
   AddInputs(c, a->input, "the .sdvi file ('-' reads standard input)", {{"sdvi"}, "svg", "", {}});
   c->add_option("--levels", a->options.levels,
-                "subdivision level r (-1: one below export-pdf's, or export-pdf's where flat shading would lose "
-                "over 38 dB)")
+                "subdivision level r (-1: one below export-pdf's, or export-pdf's where flat shading one below "
+                "is under 38 dB against smooth shading)")
       ->check(CLI::Range(-1, kMaxSvgLevels));
   AddQuiet(c, a->quiet);
   AddJson(c, a->json);
