@@ -407,18 +407,7 @@ std::string PointBufferAtFile(const std::string& gltf, const std::string& uri, s
 
 StatusOr<GltfExport> EncodeGltfOrThrow(const Image& image, const GltfExportOptions& options) {
   SDVI_RETURN_IF_ERROR(CheckOptions(options));
-  if (image.triangles.empty() || image.vertices.empty()) {
-    return Status(StatusCode::kEmptyInput, "glTF export: the image has no triangles");
-  }
-  for (size_t i = 0; i < image.vertices.size(); ++i) {
-    const Vertex& v = image.vertices[i];
-    for (float value : {v.x, v.y, v.r, v.g, v.b}) {
-      if (!std::isfinite(value)) {
-        return Status(StatusCode::kNonFinite, "glTF export: control vertex " + std::to_string(i) +
-                                                  " has a NaN or infinite coordinate or colour");
-      }
-    }
-  }
+  SDVI_RETURN_IF_ERROR(CheckExportInput(image, "glTF export"));
   GltfExport result;
   result.levels = options.levels >= 0 ? options.levels : DefaultGltfLevels(image);
   const uint64_t fine_triangles = uint64_t(image.triangles.size()) << (2 * result.levels);

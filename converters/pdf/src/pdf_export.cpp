@@ -468,22 +468,11 @@ Status CheckOptions(const PdfExportOptions& options) {
 }
 
 Status CheckImage(const Image& image) {
-  if (image.triangles.empty() || image.vertices.empty()) {
-    return Status(StatusCode::kEmptyInput, "PDF export: the image has no triangles");
-  }
+  SDVI_RETURN_IF_ERROR(CheckExportInput(image, "PDF export"));
   if (image.width == 0 || image.height == 0) {
     return Status(StatusCode::kEmptyInput, "PDF export: the image size is " +
                                                std::to_string(image.width) + " x " +
                                                std::to_string(image.height) + " pixels");
-  }
-  for (size_t i = 0; i < image.vertices.size(); ++i) {
-    const Vertex& v = image.vertices[i];
-    for (float value : {v.x, v.y, v.r, v.g, v.b}) {
-      if (!std::isfinite(value)) {
-        return Status(StatusCode::kNonFinite, "PDF export: control vertex " + std::to_string(i) +
-                                                  " has a NaN or infinite coordinate or colour");
-      }
-    }
   }
   return Status::Ok();
 }

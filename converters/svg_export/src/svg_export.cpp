@@ -26,21 +26,10 @@ Status CheckInput(const Image& image, const SvgExportOptions& options) {
                                                     " is out of range (-1.." +
                                                     std::to_string(kMaxSvgLevels) + ")");
   }
-  if (image.triangles.empty() || image.vertices.empty()) {
-    return Status(StatusCode::kEmptyInput, "SVG export: the image has no triangles");
-  }
+  SDVI_RETURN_IF_ERROR(CheckExportInput(image, "SVG export"));
   if (image.width == 0 || image.height == 0) {
     return Status(StatusCode::kEmptyInput, "SVG export: the image size is " + std::to_string(image.width) +
                                                " x " + std::to_string(image.height) + " pixels");
-  }
-  for (size_t i = 0; i < image.vertices.size(); ++i) {
-    const Vertex& v = image.vertices[i];
-    for (float value : {v.x, v.y, v.r, v.g, v.b}) {
-      if (!std::isfinite(value)) {
-        return Status(StatusCode::kNonFinite, "SVG export: control vertex " + std::to_string(i) +
-                                                  " has a NaN or infinite coordinate or colour");
-      }
-    }
   }
   return Status::Ok();
 }

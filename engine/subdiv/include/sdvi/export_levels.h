@@ -1,15 +1,36 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The subdivision level the exporters (glTF, PDF) use when none is given: fine triangles
-// small enough to look smooth when the file is magnified, bounded in number.
+// What the exporters (glTF, PDF, SVG) share: the input check and the subdivision level they
+// use when none is given (fine triangles small enough to look smooth when the file is
+// magnified, bounded in number).
 #pragma once
 
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <string>
 
 #include "sdvi/image.h"
+#include "sdvi/status.h"
 
 namespace sdvi {
+
+// kEmptyInput when the image has no triangles, kNonFinite naming the first control vertex
+// with a NaN or infinite value; messages start with `what` ("PDF export").
+inline Status CheckExportInput(const Image& image, const std::string& what) {
+  if (image.triangles.empty() || image.vertices.empty()) {
+    return Status(StatusCode::kEmptyInput, what + ": the image has no triangles");
+  }
+  for (size_t i = 0; i < image.vertices.size(); ++i) {
+    const Vertex& v = image.vertices[i];
+    for (float value : {v.x, v.y, v.r, v.g, v.b}) {
+      if (!std::isfinite(value)) {
+        return Status(StatusCode::kNonFinite, what + ": control vertex " + std::to_string(i) +
+                                                  " has a NaN or infinite coordinate or colour");
+      }
+    }
+  }
+  return Status::Ok();
+}
 
 inline constexpr int kDefaultExportLevelCap = 5;
 inline constexpr uint64_t kDefaultExportFineTriangleCap = uint64_t(1) << 21;
