@@ -17,6 +17,8 @@
 //     fitted to (NAME-librsvg.png) into DIR (created), for looking at the errors.
 //   --outline-only (both tables): outline features only, no detected edges where no outline
 //     explains one (SvgArtworkOptions::detect_uncovered_edges = false), the ablation.
+//   --no-thin-fills (both tables): fills' parts thinner than 3 px are not thin structures
+//     (SvgArtworkOptions::thin_fills = false), the ablation.
 #include <zlib.h>
 
 #include <algorithm>
@@ -128,6 +130,7 @@ std::vector<fs::path> SvgFiles(const fs::path& dir) {
 }
 
 bool g_outline_only = false;
+bool g_no_thin_fills = false;
 std::string g_dump_dir;
 
 int W3cTable(const fs::path& dir, double ratio, double feature_fraction) {
@@ -137,7 +140,8 @@ int W3cTable(const fs::path& dir, double ratio, double feature_fraction) {
               "librsvg's own rendering (what the import is fitted to) against the PNG, the ceiling; thin: share of\n"
               "the pixels within 2 px of structures thinner than 3 px (hairlines, glyph stems); not thin: PSNR\n"
               "over white of the other pixels\n\n",
-              dir.c_str(), ratio, g_outline_only ? " (outline features only)" : "");
+              dir.c_str(), ratio,
+              g_outline_only ? " (outline features only)" : (g_no_thin_fills ? " (no thin fills)" : ""));
   std::printf("%-24s %9s %9s %10s %6s %12s %12s %9s %6s %9s %7s\n", "test", "size", "triangles", "features",
               "approx", "PSNR common", "PSNR white", "librsvg", "thin", "not thin", "time s");
   int failures = 0, below_gate = 0;
@@ -160,6 +164,7 @@ int W3cTable(const fs::path& dir, double ratio, double feature_fraction) {
     options.vectorize.compression_ratio = ratio;
     options.vectorize.max_feature_fraction = feature_fraction;
     options.detect_uncovered_edges = !g_outline_only;
+    options.thin_fills = !g_no_thin_fills;
     auto result = sdvi::ImportSvgArtwork(*document, options);
     if (!result.ok()) {
       std::printf("%-24s error: %s\n", svg.stem().c_str(), result.status().ToString().c_str());
@@ -204,9 +209,9 @@ int W3cTable(const fs::path& dir, double ratio, double feature_fraction) {
 }
 
 int IconTable(const fs::path& dir, int width, int max_triangles) {
-  std::printf("Icons and emoji (%s) at width %d: artwork mode vs vectorize of librsvg's raster at the "
+  std::printf("Icons and emoji (%s) at width %d: artwork mode%s vs vectorize of librsvg's raster at the "
               "artwork's triangle count (--max-triangles %d); PSNR against librsvg's raster over the "
-              "pixels both cover\n\n", dir.c_str(), width, max_triangles);
+              "pixels both cover\n\n", dir.c_str(), width, g_no_thin_fills ? " (no thin fills)" : "", max_triangles);
   std::printf("%-22s %9s %9s %9s %9s %9s %7s %10s %10s %9s\n", "file", "size", "tri art", "tri vec", "PSNR art",
               "PSNR vec", "gain", "art Draco", "vec Draco", "SVG gzip");
   double sum_gain = 0;
@@ -222,6 +227,7 @@ int IconTable(const fs::path& dir, int width, int max_triangles) {
     options.width = width;
     options.vectorize.max_triangles = max_triangles;
     options.detect_uncovered_edges = !g_outline_only;
+    options.thin_fills = !g_no_thin_fills;
     auto art = sdvi::ImportSvgArtwork(*document, options);
     if (!art.ok()) {
       std::printf("%-22s error: %s\n", svg.stem().c_str(), art.status().ToString().c_str());
@@ -288,6 +294,8 @@ int main(int argc, char** argv) {
       }
     } else if (!std::strcmp(argv[i], "--outline-only")) {
       g_outline_only = true;
+    } else if (!std::strcmp(argv[i], "--no-thin-fills")) {
+      g_no_thin_fills = true;
     } else if (!std::strcmp(argv[i], "--max-triangles") && i + 1 < argc) {
       max_triangles = std::atoi(argv[++i]);
     } else {
@@ -297,6 +305,6 @@ int main(int argc, char** argv) {
   if (mode == "w3c") return W3cTable(dir.empty() ? "../shared/data/svg-w3c" : dir, ratio, feature_fraction);
   if (mode == "icons") return IconTable(dir.empty() ? "../shared/data/svg" : dir, width, max_triangles);
   std::fprintf(stderr, "usage: bench_svg w3c [DIR] [--ratio R] | icons [DIR] [--width W] [--max-triangles N]; "
-                       "[--outline-only] [--dump DIR]\n");
+                       "[--outline-only] [--no-thin-fills] [--dump DIR]\n");
   return 2;
 }

@@ -26,10 +26,10 @@ namespace {
 constexpr const char* kXIncludeNamespace = "http://www.w3.org/2001/XInclude";
 constexpr const char* kXIncludeNamespace2003 = "http://www.w3.org/2003/XInclude";
 
-// Elements whose rendering has no exact features in the artwork mode.
+// Elements whose rendering has no exact features in the artwork mode. Text is not among
+// them: librsvg draws it as the glyphs' outlines, which are traced like any fill.
 bool IsApproximated(std::string_view name) {
-  static const char* const kNames[] = {"text",      "filter",        "mask", "image",
-                                       "foreignObject", "pattern", "meshgradient",
+  static const char* const kNames[] = {"filter", "mask", "image", "foreignObject", "pattern", "meshgradient",
                                        "feImage"};
   for (const char* n : kNames) {
     if (name == n) return true;

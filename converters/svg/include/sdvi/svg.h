@@ -81,7 +81,7 @@ struct SvgDocument {
   double width = 0, height = 0;  // intrinsic size in px (96 dpi); 0 when it has none
   size_t elements = 0;
   // Elements whose rendering the artwork mode only approximates (no exact features for
-  // them; their colours are fitted like a raster): "text (line 12)", "filter (line 30)".
+  // them; their colours are fitted like a raster): "filter (line 30)", "image (line 12)".
   std::vector<std::string> unsupported;
   std::vector<std::string> warnings;  // references to other files, which are not loaded
   SvgLimits limits;              // the limits it was loaded with (rendering enforces max_dashes)
@@ -172,6 +172,10 @@ struct SvgArtworkOptions {
   // Edges of the reference that no outline feature explains (text, patterns, images,
   // filters) are detected as in a raster (vectorize.features) and added (spec/SVG.md).
   bool detect_uncovered_edges = true;
+  // Parts of a fill thinner than 3 px (glyph stems and the gaps between them at text sizes,
+  // slivers) are thin structures: features on their centreline with their width, as thin
+  // strokes are (spec/SVG.md). Off: the fill's outline only, the ablation.
+  bool thin_fills = true;
 };
 
 struct SvgArtworkResult {
