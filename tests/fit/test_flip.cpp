@@ -98,3 +98,23 @@ TEST_CASE("vectorize edge flips of a control mesh keep a valid oriented manifold
   sdvi::FlipEdgesToData(again, raster, nullptr, 8, 2.0);
   CHECK(again.triangles == mesh.triangles);
 }
+
+TEST_CASE("vectorize edge flips give the same mesh for any thread count", "[vectorize][flip]") {
+  // Enough edges for many of the fixed chunks the errors are computed in.
+  const sdvi::Raster raster = sdvi::MakeSampleImage(160, 120);
+  std::vector<sdvi::Point2> samples;
+  for (int y = 3; y < 120; y += 4) {
+    for (int x = 3 + (y % 3); x < 160; x += 4) samples.push_back({x + 0.5, y + 0.5});
+  }
+  auto built = sdvi::BuildControlMesh(160, 120, {}, samples, sdvi::ControlMeshOptions());
+  REQUIRE(built.ok());
+  REQUIRE(built->triangles.size() > 2000);
+  sdvi::Image one = *built;
+  const int flips = sdvi::FlipEdgesToData(one, raster, nullptr, 16, 1.0, 1);
+  CHECK(flips > 100);
+  for (int threads : {2, 3, 8}) {
+    sdvi::Image many = *built;
+    CHECK(sdvi::FlipEdgesToData(many, raster, nullptr, 16, 1.0, threads) == flips);
+    CHECK(many.triangles == one.triangles);
+  }
+}

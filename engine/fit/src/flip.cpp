@@ -11,6 +11,7 @@
 #include <cmath>
 #include <vector>
 
+#include "parallel.h"
 #include "sdvi/color_fit.h"
 #include "sdvi/vectorize.h"
 
@@ -37,7 +38,8 @@ double MinAngleSine(const Vertex& a, const Vertex& b, const Vertex& c) {
 class QuadError {
  public:
   QuadError(const Image& mesh, const Raster& raster, const Raster* mask, const std::vector<Rgb>& colour)
-      : mesh_(mesh), raster_(raster), mask_(mask), colour_(colour) {}
+      : mesh_(mesh), raster_(raster), mask_(mask), colour_(colour),
+        whole_(mask == nullptr && !raster.has_alpha()) {}
 
   // Squared error of the linear interpolation over triangle t (vertex triple) at the
   // pixel centres inside it.
@@ -64,7 +66,7 @@ class QuadError {
         const double la = Orient(p, b, c) / det, lb = Orient(a, p, c) / det;
         const double lc = 1 - la - lb;
         if (la < 0 || lb < 0 || lc < 0) continue;
-        if (!InDomain(raster_, mask_, x, y)) continue;
+        if (!whole_ && !InDomain(raster_, mask_, x, y)) continue;
         for (int k = 0; k < 3; ++k) {
           const double ref = raster_.channels <= 2 ? raster_.at(x, y, 0) : raster_.at(x, y, k);
           const double d = la * ca.c[k] + lb * cb.c[k] + lc * cc.c[k] - ref;
@@ -80,12 +82,13 @@ class QuadError {
   const Raster& raster_;
   const Raster* mask_;
   const std::vector<Rgb>& colour_;
+  bool whole_;  // every pixel is in the domain
 };
 
 }  // namespace
 
 int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int passes,
-                    double min_angle_deg) {
+                    double min_angle_deg, int threads) {
   const int width = raster.width, height = raster.height;
   if (passes <= 0 || mesh.triangles.empty() || width <= 0 || height <= 0) return 0;
   // Vertex colours: the image smoothed by a Gaussian of sigma 1 px, bilinear.
@@ -118,10 +121,17 @@ int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int p
   // first visits only the edges of triangles the previous sweep changed.
   std::vector<double> triangle_error(mesh.triangles.size(), -1.0);
   std::vector<uint8_t> changed(mesh.triangles.size(), 1);
-  auto error_of = [&](uint32_t t) {
-    if (triangle_error[t] < 0) triangle_error[t] = error.Triangle(mesh.triangles[t].v);
-    return triangle_error[t];
+  // A sweep decides edge by edge in edge order, and a flip of one edge only changes its two
+  // triangles, which no later edge of the sweep may use (`touched`). So every quantity a
+  // decision reads (the two triangles, their errors, the errors after the flip) is that of
+  // the sweep's start: they are computed first, on threads in fixed chunks, and the
+  // decisions then taken in edge order exactly as one serial sweep takes them.
+  struct Candidate {
+    Edge e;
+    uint32_t t0, t1, r, s;
+    double after0, after1;
   };
+  constexpr size_t kChunk = 256;
   for (int pass = 0; pass < passes; ++pass) {
     // (edge, triangle) pairs sorted by edge: interior edges appear twice.
     struct Side {
@@ -137,14 +147,14 @@ int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int p
     std::sort(sides.begin(), sides.end(), [](const Side& a, const Side& b) {
       return a.e != b.e ? a.e < b.e : a.t < b.t;
     });
-    std::vector<uint8_t> touched(mesh.triangles.size(), 0);
-    int pass_flips = 0;
+    // The edges a sweep may flip, by the geometry at the sweep's start.
+    std::vector<Candidate> candidates;
     for (size_t i = 0; i + 1 < sides.size(); ++i) {
       if (sides[i].e != sides[i + 1].e) continue;
       const Edge e = sides[i].e;
       const uint32_t t0 = sides[i].t, t1 = sides[i + 1].t;
       ++i;
-      if (touched[t0] || touched[t1] || !(changed[t0] || changed[t1])) continue;
+      if (!(changed[t0] || changed[t1])) continue;
       if (std::binary_search(creases.begin(), creases.end(), e)) continue;
       auto opposite = [&](uint32_t t) {
         for (uint32_t w : mesh.triangles[t].v) {
@@ -164,20 +174,46 @@ int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int p
       if (!((op > 0 && oq < 0) || (op < 0 && oq > 0))) continue;
       if (!((orr > 0 && os < 0) || (orr < 0 && os > 0))) continue;
       if (MinAngleSine(R, S, P) < min_sine || MinAngleSine(R, S, Q) < min_sine) continue;
-      const double before = error_of(t0) + error_of(t1);
-      const double after0 = error.Triangle({r, s, e.a}), after1 = error.Triangle({r, s, e.b});
-      if (!(after0 + after1 < 0.98 * before)) continue;
+      candidates.push_back({e, t0, t1, r, s, 0.0, 0.0});
+    }
+    // Errors of the candidates' triangles not known yet, then of the flipped pairs.
+    std::vector<uint32_t> unknown;
+    for (const Candidate& c : candidates) {
+      for (uint32_t t : {c.t0, c.t1}) {
+        if (triangle_error[t] < 0) {
+          triangle_error[t] = 0;  // listed once
+          unknown.push_back(t);
+        }
+      }
+    }
+    fit_internal::ForEachChunk(unknown.size(), kChunk, threads, [&](size_t, size_t k0, size_t k1) {
+      for (size_t k = k0; k < k1; ++k) triangle_error[unknown[k]] = error.Triangle(mesh.triangles[unknown[k]].v);
+    });
+    fit_internal::ForEachChunk(candidates.size(), kChunk, threads, [&](size_t, size_t k0, size_t k1) {
+      for (size_t k = k0; k < k1; ++k) {
+        Candidate& c = candidates[k];
+        c.after0 = error.Triangle({c.r, c.s, c.e.a});
+        c.after1 = error.Triangle({c.r, c.s, c.e.b});
+      }
+    });
+    std::vector<uint8_t> touched(mesh.triangles.size(), 0);
+    int pass_flips = 0;
+    for (const Candidate& c : candidates) {
+      const uint32_t t0 = c.t0, t1 = c.t1;
+      if (touched[t0] || touched[t1]) continue;
+      const double before = triangle_error[t0] + triangle_error[t1];
+      if (!(c.after0 + c.after1 < 0.98 * before)) continue;
       // Keep the orientation of t0.
       const auto& v0 = mesh.triangles[t0].v;
       const double sign = Orient(mesh.vertices[v0[0]], mesh.vertices[v0[1]], mesh.vertices[v0[2]]);
-      auto oriented = [&](uint32_t a, uint32_t b, uint32_t c) {
-        const double o = Orient(mesh.vertices[a], mesh.vertices[b], mesh.vertices[c]);
-        return (o > 0) == (sign > 0) ? std::array<uint32_t, 3>{a, b, c} : std::array<uint32_t, 3>{a, c, b};
+      auto oriented = [&](uint32_t a, uint32_t b, uint32_t d) {
+        const double o = Orient(mesh.vertices[a], mesh.vertices[b], mesh.vertices[d]);
+        return (o > 0) == (sign > 0) ? std::array<uint32_t, 3>{a, b, d} : std::array<uint32_t, 3>{a, d, b};
       };
-      mesh.triangles[t0].v = oriented(r, s, e.a);
-      mesh.triangles[t1].v = oriented(r, s, e.b);
-      triangle_error[t0] = after0;
-      triangle_error[t1] = after1;
+      mesh.triangles[t0].v = oriented(c.r, c.s, c.e.a);
+      mesh.triangles[t1].v = oriented(c.r, c.s, c.e.b);
+      triangle_error[t0] = c.after0;
+      triangle_error[t1] = c.after1;
       touched[t0] = touched[t1] = 1;
       ++pass_flips;
     }

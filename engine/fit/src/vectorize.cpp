@@ -252,7 +252,7 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
       mesh_options.max_edge *= 2;
     }
   }
-  FlipEdgesToData(mesh, raster, mask, options.flip_passes, options.flip_min_angle);
+  FlipEdgesToData(mesh, raster, mask, options.flip_passes, options.flip_min_angle, options.threads);
   seconds.triangulate += SecondsSince(start);
 
   ColorFitOptions fit_options = options.fit;
@@ -334,7 +334,8 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
       const double keep = grown > 0 ? 0.95 * double(added.size()) * std::max(0.0, allowed) / grown : 0;
       added.resize(std::min(added.size() - 1, size_t(keep)));
     }
-    if (accepted) FlipEdgesToData(candidate, raster, mask, options.flip_passes, options.flip_min_angle);
+    if (accepted) FlipEdgesToData(candidate, raster, mask, options.flip_passes, options.flip_min_angle,
+                                  options.threads);
     seconds.triangulate += SecondsSince(start);
     if (!accepted) break;
 

@@ -170,9 +170,10 @@ std::vector<float> ErrorMap(const Raster& reconstruction, const Raster& target, 
 // quadrilateral is strictly convex is flipped when the piecewise-linear interpolation of the
 // image (Gaussian sigma 1 px) sampled at the four vertices has a squared error over the
 // quadrilateral's pixels below 0.98 x that of the current diagonal, and neither new triangle
-// has an angle under min_angle_deg. Orientation is kept. Returns the number of flips.
+// has an angle under min_angle_deg. Orientation is kept. Returns the number of flips. The
+// errors are computed on `threads` threads; the result is the same for any thread count.
 int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int passes,
-                    double min_angle_deg);
+                    double min_angle_deg, int threads = 1);
 
 // The minimum distance of a new sample, as a function of the error e at its pixel:
 // clamp(base * (reference_error / e)^exponent, min, max). exponent 0: a fixed spacing;
