@@ -273,3 +273,37 @@ TEST_CASE("vectorize handles tiny, grey and grey+alpha images", "[vectorize]") {
     }
   }
 }
+
+TEST_CASE("the error map from the fit's samples equals the one from its reconstruction", "[vectorize]") {
+  // An RGBA image with a transparent hole (outside the domain) and a mask cutting a band,
+  // so that uncovered, masked and covered pixels all occur.
+  const sdvi::Raster sample = sdvi::MakeSampleImage(150, 110);
+  sdvi::Raster rgba(150, 110, 4);
+  sdvi::Raster mask(150, 110, 1);
+  for (int y = 0; y < 110; ++y) {
+    for (int x = 0; x < 150; ++x) {
+      for (int c = 0; c < 3; ++c) rgba.at(x, y, c) = sample.at(x, y, c);
+      rgba.at(x, y, 3) = std::hypot(x - 40.0, y - 50.0) < 15 ? 0.f : 1.f;
+      mask.at(x, y, 0) = x > 120 && y < 30 ? 0.f : 255.f;
+    }
+  }
+  std::vector<sdvi::Point2> samples;
+  for (int y = 5; y < 110; y += 9) {
+    for (int x = 5 + (y % 2) * 4; x < 150; x += 9) samples.push_back({x + 0.5, y + 0.5});
+  }
+  auto built = sdvi::BuildControlMesh(150, 110, {}, samples, sdvi::ControlMeshOptions());
+  REQUIRE(built.ok());
+  const sdvi::Raster* const masks[] = {nullptr, &mask};
+  const sdvi::Raster* const targets[] = {&sample, &rgba};
+  for (const sdvi::Raster* m : masks) {
+    for (const sdvi::Raster* target : targets) {
+      sdvi::Image mesh = *built;
+      auto fit = sdvi::FitColors(mesh, *target, m, sdvi::ColorFitOptions{});
+      REQUIRE(fit.ok());
+      for (double sigma : {0.0, 1.5}) {
+        const std::vector<float> expected = sdvi::ErrorMap(sdvi::ReconstructRaster(*fit), *target, m, sigma);
+        for (int threads : {1, 3}) CHECK(sdvi::ErrorMap(*fit, *target, m, sigma, threads) == expected);
+      }
+    }
+  }
+}

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "parallel.h"
 #include "sdvi/color_fit.h"
 
 namespace sdvi {
@@ -156,30 +157,93 @@ ContentBlocks FindContentBlocks(const Raster& raster, const Raster* mask, int bl
   return content;
 }
 
+namespace {
+
+// The Gaussian average and the -1 outside the domain of ErrorMap, on `error` in place.
+void BlurAndMarkDomain(std::vector<float>& error, const Raster& target, const Raster* mask, double sigma) {
+  const int width = target.width, height = target.height;
+  if (sigma > 0) {
+    cv::Mat1f view(height, width, error.data());  // no copy: blurred in place
+    cv::GaussianBlur(view, view, cv::Size(0, 0), sigma, sigma, cv::BORDER_REFLECT);
+  }
+  if (mask == nullptr && !target.has_alpha()) return;
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      if (!InDomain(target, mask, x, y)) error[size_t(y) * width + x] = -1.f;
+    }
+  }
+}
+
+}  // namespace
+
 std::vector<float> ErrorMap(const Raster& reconstruction, const Raster& target, const Raster* mask,
                             double sigma) {
   const int width = target.width, height = target.height;
-  cv::Mat1f error(height, width, 0.f);
-  std::vector<uint8_t> domain(size_t(width) * height, 0);
+  std::vector<float> error(size_t(width) * height, 0.f);
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
       if (!InDomain(target, mask, x, y)) continue;
-      domain[size_t(y) * width + x] = 1;
       float sum = 0;
       for (int c = 0; c < 3; ++c) {
         const float ref = target.channels <= 2 ? target.at(x, y, 0) : target.at(x, y, c);
         const float d = reconstruction.at(x, y, c) - ref;
         sum += d * d;
       }
-      error(y, x) = sum;
+      error[size_t(y) * width + x] = sum;
     }
   }
-  if (sigma > 0) cv::GaussianBlur(error, error, cv::Size(0, 0), sigma, sigma, cv::BORDER_REFLECT);
-  std::vector<float> out(error.begin(), error.end());
-  for (size_t p = 0; p < out.size(); ++p) {
-    if (!domain[p]) out[p] = -1.f;
-  }
-  return out;
+  BlurAndMarkDomain(error, target, mask, sigma);
+  return error;
+}
+
+std::vector<float> ErrorMap(const ColorFit& fit, const Raster& target, const Raster* mask, double sigma,
+                            int threads) {
+  const int width = target.width, height = target.height;
+  const size_t pixels = size_t(width) * height;
+  std::vector<float> error(pixels, 0.f);
+  if (fit.coverage.width != width || fit.coverage.height != height) return error;
+  const bool grey = target.channels <= 2;
+  const bool whole = mask == nullptr && !target.has_alpha();
+  // Uncovered domain pixels: the reconstruction is 0 there.
+  fit_internal::ForEachChunk(size_t(height), 64, threads, [&](size_t, size_t y0, size_t y1) {
+    for (size_t y = y0; y < y1; ++y) {
+      for (int x = 0; x < width; ++x) {
+        if (!whole && !InDomain(target, mask, x, int(y))) continue;
+        float sum = 0;
+        for (int c = 0; c < 3; ++c) {
+          const float d = 0.f - target.at(x, int(y), grey ? 0 : c);
+          sum += d * d;
+        }
+        error[y * width + x] = sum;
+      }
+    }
+  });
+  // Covered pixels: the reconstruction as ReconstructRaster computes it.
+  const std::vector<PixelSample>& samples = fit.coverage.samples;
+  const std::vector<Triangle>& triangles = fit.surface.triangles;
+  fit_internal::ForEachChunk(samples.size(), size_t(1) << 16, threads, [&](size_t, size_t q0, size_t q1) {
+    for (size_t q = q0; q < q1; ++q) {
+      const PixelSample& sm = samples[q];
+      if (sm.pixel >= pixels || sm.triangle >= triangles.size()) continue;
+      const int x = int(sm.pixel % width), y = int(sm.pixel / width);
+      if (!whole && !InDomain(target, mask, x, y)) continue;
+      const Triangle& tri = triangles[sm.triangle];
+      const Vertex& p0 = fit.fine[tri.v[0]];
+      const Vertex& p1 = fit.fine[tri.v[1]];
+      const Vertex& p2 = fit.fine[tri.v[2]];
+      const float rec[3] = {std::clamp(sm.w0 * p0.r + sm.w1 * p1.r + sm.w2 * p2.r, 0.f, 255.f),
+                            std::clamp(sm.w0 * p0.g + sm.w1 * p1.g + sm.w2 * p2.g, 0.f, 255.f),
+                            std::clamp(sm.w0 * p0.b + sm.w1 * p1.b + sm.w2 * p2.b, 0.f, 255.f)};
+      float sum = 0;
+      for (int c = 0; c < 3; ++c) {
+        const float d = rec[c] - target.at(x, y, grey ? 0 : c);
+        sum += d * d;
+      }
+      error[sm.pixel] = sum;
+    }
+  });
+  BlurAndMarkDomain(error, target, mask, sigma);
+  return error;
 }
 
 double SpacingRule::At(double error) const {

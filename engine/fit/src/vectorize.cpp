@@ -291,7 +291,7 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
     phase("refine " + std::to_string(round));
     start = Clock::now();
     std::vector<float> error =
-        ErrorMap(ReconstructRaster(fit), raster, mask, options.error_blur_sigma);
+        ErrorMap(fit, raster, mask, options.error_blur_sigma, options.threads);
     double error_sum = 0;
     for (float e : error) error_sum += std::max(0.f, e);
     spacing.reference_error = error_sum / double(domain_pixels);

@@ -70,8 +70,7 @@ CoverageMap MapPixels(const std::vector<Triangle>& triangles, const std::vector<
   map.height = viewport.height;
   const size_t npix = size_t(viewport.width) * size_t(viewport.height);
   constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
-  std::vector<PixelSample> dense(npix);
-  for (auto& s : dense) s.triangle = kNone;
+  std::vector<PixelSample> dense(npix, PixelSample{0, kNone, 0, 0, 0});
   const std::vector<FixedPoint> pts = ToFixedAll(fine, viewport, 0);
   const uint32_t nv = uint32_t(fine.size());
   const int width = viewport.width;
@@ -96,15 +95,18 @@ CoverageMap MapPixels(const std::vector<Triangle>& triangles, const std::vector<
       });
     }
   });
+  // Compacted in place (a covered pixel moves to a lower or equal index): no second
+  // per-pixel array.
   size_t count = 0;
-  for (const auto& s : dense) count += s.triangle != kNone;
-  map.samples.reserve(count);
   for (size_t p = 0; p < npix; ++p) {
     if (dense[p].triangle == kNone) continue;
     PixelSample s = dense[p];
     s.pixel = uint32_t(p);
-    map.samples.push_back(s);
+    dense[count++] = s;
   }
+  dense.resize(count);
+  if (count < npix / 2) dense.shrink_to_fit();
+  map.samples = std::move(dense);
   return map;
 }
 

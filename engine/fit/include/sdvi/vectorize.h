@@ -165,6 +165,11 @@ ContentBlocks FindContentBlocks(const Raster& raster, const Raster* mask, int bl
 std::vector<float> ErrorMap(const Raster& reconstruction, const Raster& target, const Raster* mask,
                             double sigma);
 
+// ErrorMap(ReconstructRaster(fit), target, mask, sigma), the same floats, computed from the
+// fit's pixel samples without the RGBA reconstruction, on `threads` threads.
+std::vector<float> ErrorMap(const ColorFit& fit, const Raster& target, const Raster* mask, double sigma,
+                            int threads);
+
 // Data-dependent edge flips (spec/METHOD.md section 6 step 4, after the CDT): in up to `passes` sweeps over the
 // non-crease interior edges (sorted; a triangle flips at most once a sweep), an edge whose
 // quadrilateral is strictly convex is flipped when the piecewise-linear interpolation of the
