@@ -401,3 +401,23 @@ TEST_CASE("svg artwork: small text's glyph stems are thin features, sharper than
   INFO("mean error with thin fills " << error(*with) << ", without " << error(*without));
   CHECK(error(*with) < 0.8 * error(*without));
 }
+
+TEST_CASE("svg artwork: a thin fill drawn over itself thousands of times stays linear", "[svg][thin]") {
+  // One path of 4000 identical 1 x 24 px bars: about 400,000 outline samples, all within
+  // a few 4 px cells. Searched naively each sample would look at every other one (1.6e11
+  // tests); the crowded cells are skipped, so no thin part is found and the outline alone
+  // remains (it is not a colour discontinuity of its own: every copy covers the same pixels).
+  std::string d;
+  for (int k = 0; k < 4000; ++k) d += "M 20 8 h 1 v 24 h -1 z ";
+  const sdvi::SvgDocument doc = Doc(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"48\" height=\"40\">"
+      "<rect width=\"48\" height=\"40\" fill=\"white\"/><path d=\"" + d + "\" fill=\"black\"/></svg>");
+  auto reference = sdvi::RenderSvg(doc, 48, 40);
+  auto traced = sdvi::TraceSvgGeometry(doc, 48, 40);
+  REQUIRE(reference.ok());
+  REQUIRE(traced.ok());
+  REQUIRE(traced->shapes.size() == 1);
+  CHECK(traced->shapes[0].outlines.size() == 4000);
+  sdvi::SvgArtworkOptions options;
+  for (const sdvi::FeatureCurve& c : sdvi::ArtworkFeatures(traced->shapes, *reference, options)) CHECK(c.width == 0);
+}

@@ -444,6 +444,10 @@ std::vector<FeatureCurve> UncoveredEdges(const Raster& fitted, const std::vector
 constexpr double kThinFill = kClaimRadius;
 constexpr double kFacingDeg = 35;
 constexpr double kCell = 4;
+// A cell crossed by more segments than this (a shape drawn over itself many times; text
+// puts a few dozen in one) is crowded: samples looking through it find no thin part, so
+// the search stays linear in the samples whatever the input.
+constexpr long kMaxCellSegments = 256;
 
 class SegmentIndex {
  public:
@@ -491,7 +495,9 @@ class SegmentIndex {
         const uint64_t key = Key(x, y);
         auto it = std::lower_bound(entries_.begin(), entries_.end(), key,
                                    [](const Entry& e, uint64_t k) { return e.key < k; });
-        for (; it != entries_.end() && it->key == key; ++it) {
+        const auto end = std::upper_bound(it, entries_.end(), key, [](uint64_t k, const Entry& e) { return k < e.key; });
+        if (end - it > kMaxCellSegments) return false;  // crowded: no thin part found here
+        for (; it != end; ++it) {
           const Ref r = it->ref;
           if (r.outline == o) {
             const size_t d = (r.index + n - i) % n;  // the four segments around the sample
