@@ -12,6 +12,8 @@
 // in triangle order, so the result does not depend on the thread count.
 #include "sdvi/color_fit.h"
 
+#include "parallel.h"
+
 #include <Eigen/Sparse>
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
@@ -415,20 +417,36 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
       work(0);
       for (std::thread& th : pool) th.join();
     }
-    for (size_t t = t0; t < t1; ++t) {
-      const size_t u = support.count(t);
-      const uint32_t* us = support.begin(t);  // ascending: merge with the sorted row columns
-      const double* a = blocks.data() + block_offset[t - t0];
-      const double* b = a + u * u;
-      for (size_t i = 0; i < u; ++i) {
-        for (int c = 0; c < 3; ++c) rhs(us[i], c) += b[i * 3 + c];
-        const double* arow = a + i * u;
-        int p = row_start[us[i]];
-        for (size_t j = 0; j < u; ++j) {
-          while (columns[p] < int(us[j])) ++p;
-          values[p] += arow[j];
+    // Scatter: each thread owns a range of rows of A and adds the blocks' rows in triangle
+    // order, so every entry is summed in the same order for any thread count.
+    auto scatter = [&](int id) {
+      const uint32_t row_lo = uint32_t(num_control * size_t(id) / size_t(threads));
+      const uint32_t row_hi = uint32_t(num_control * size_t(id + 1) / size_t(threads));
+      for (size_t t = t0; t < t1; ++t) {
+        const size_t u = support.count(t);
+        const uint32_t* us = support.begin(t);  // ascending: merge with the sorted row columns
+        const double* a = blocks.data() + block_offset[t - t0];
+        const double* b = a + u * u;
+        const size_t i0 = size_t(std::lower_bound(us, us + u, row_lo) - us);
+        const size_t i1 = size_t(std::lower_bound(us, us + u, row_hi) - us);
+        for (size_t i = i0; i < i1; ++i) {
+          for (int c = 0; c < 3; ++c) rhs(us[i], c) += b[i * 3 + c];
+          const double* arow = a + i * u;
+          int p = row_start[us[i]];
+          for (size_t j = 0; j < u; ++j) {
+            while (columns[p] < int(us[j])) ++p;
+            values[p] += arow[j];
+          }
         }
       }
+    };
+    if (threads == 1 || t1 - t0 < 64) {
+      for (int id = 0; id < threads; ++id) scatter(id);
+    } else {
+      std::vector<std::thread> pool;
+      for (int id = 1; id < threads; ++id) pool.emplace_back(scatter, id);
+      scatter(0);
+      for (std::thread& th : pool) th.join();
     }
   }
   // The grouping tables are not needed by the solve: release them before it.
@@ -505,24 +523,35 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
 
   start = Clock::now();
   fit.fine = EvaluateSurface(fit.surface, image.vertices);
-  double sse = 0;
-  for (const PixelSample& sm : samples) {
-    if (sm.triangle >= num_fine_tris || sm.pixel >= uint64_t(width) * height) continue;
-    if (!InDomain(target, mask, int(sm.pixel % width), int(sm.pixel / width))) continue;
-    const Triangle& tri = surface.triangles[sm.triangle];
-    const Vertex& p0 = fit.fine[tri.v[0]];
-    const Vertex& p1 = fit.fine[tri.v[1]];
-    const Vertex& p2 = fit.fine[tri.v[2]];
-    double rgb[3];
-    PixelRgb(target, sm.pixel, rgb);
-    const double rec[3] = {sm.w0 * p0.r + sm.w1 * p1.r + sm.w2 * p2.r,
-                           sm.w0 * p0.g + sm.w1 * p1.g + sm.w2 * p2.g,
-                           sm.w0 * p0.b + sm.w1 * p1.b + sm.w2 * p2.b};
-    for (int c = 0; c < 3; ++c) {
-      const double d = std::clamp(rec[c], 0.0, 255.0) - rgb[c];
-      sse += d * d;
+  // Sum of squared errors: partial sums of fixed chunks of samples, added in chunk order
+  // (the same for any thread count).
+  constexpr size_t kSseChunk = size_t(1) << 16;
+  std::vector<double> partial(fit_internal::ChunkCount(samples.size(), kSseChunk), 0.0);
+  const bool whole = mask == nullptr && !target.has_alpha();
+  fit_internal::ForEachChunk(samples.size(), kSseChunk, threads, [&](size_t chunk, size_t q0, size_t q1) {
+    double sse = 0;
+    for (size_t q = q0; q < q1; ++q) {
+      const PixelSample& sm = samples[q];
+      if (sm.triangle >= num_fine_tris || sm.pixel >= uint64_t(width) * height) continue;
+      if (!whole && !InDomain(target, mask, int(sm.pixel % width), int(sm.pixel / width))) continue;
+      const Triangle& tri = surface.triangles[sm.triangle];
+      const Vertex& p0 = fit.fine[tri.v[0]];
+      const Vertex& p1 = fit.fine[tri.v[1]];
+      const Vertex& p2 = fit.fine[tri.v[2]];
+      double rgb[3];
+      PixelRgb(target, sm.pixel, rgb);
+      const double rec[3] = {sm.w0 * p0.r + sm.w1 * p1.r + sm.w2 * p2.r,
+                             sm.w0 * p0.g + sm.w1 * p1.g + sm.w2 * p2.g,
+                             sm.w0 * p0.b + sm.w1 * p1.b + sm.w2 * p2.b};
+      for (int c = 0; c < 3; ++c) {
+        const double d = std::clamp(rec[c], 0.0, 255.0) - rgb[c];
+        sse += d * d;
+      }
     }
-  }
+    partial[chunk] = sse;
+  });
+  double sse = 0;
+  for (double v : partial) sse += v;
   fit.sum_squared_error = sse;
   fit.seconds_surface += SecondsSince(start);
   return fit;

@@ -57,8 +57,32 @@ class QuadError {
     const Rgb& cb = colour_[t[1]];
     const Rgb& cc = colour_[t[2]];
     double sum = 0;
+    const Vertex* corners[3] = {&a, &b, &c};
     for (int y = y0; y <= y1; ++y) {
-      for (int x = x0; x <= x1; ++x) {
+      // Only pixels near the row's span of the triangle (one pixel of margin each side)
+      // can be inside; the exact test below decides, so the span only saves work.
+      const double py = y + 0.5;
+      double span_lo = INFINITY, span_hi = -INFINITY;
+      for (int k = 0; k < 3; ++k) {
+        const Vertex& u = *corners[k];
+        const Vertex& v = *corners[(k + 1) % 3];
+        const double uy = u.y, vy = v.y;
+        if (py < std::min(uy, vy) - 1 || py > std::max(uy, vy) + 1) continue;
+        double x_at;
+        if (std::abs(vy - uy) < 1e-9) {
+          span_lo = std::min({span_lo, double(u.x), double(v.x)});
+          span_hi = std::max({span_hi, double(u.x), double(v.x)});
+          continue;
+        }
+        const double t = std::clamp((py - uy) / (vy - uy), 0.0, 1.0);
+        x_at = u.x + t * (double(v.x) - u.x);
+        span_lo = std::min(span_lo, x_at);
+        span_hi = std::max(span_hi, x_at);
+      }
+      if (!(span_lo <= span_hi)) continue;
+      const int xa = std::max(x0, int(std::floor(span_lo - 1.5)));
+      const int xb = std::min(x1, int(std::ceil(span_hi + 0.5)));
+      for (int x = xa; x <= xb; ++x) {
         Vertex p;
         p.x = float(x + 0.5);
         p.y = float(y + 0.5);
