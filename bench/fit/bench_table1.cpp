@@ -15,7 +15,14 @@
 // --timing IMG: phase-by-phase seconds at --timing-triangles (default 10000).
 // --large IMG: IMG upscaled (bicubic) to 3840x2160, default budget; time and peak RSS.
 //   Run it alone: peak RSS is per process.
+// --scale IMG (repeatable) [--scale-threads 1,2]: IMG as it is (e.g. a 3840x2160 photo),
+//   default budget, once per thread count, each run in its own child process (load +
+//   vectorize, as `sdvi vectorize` does): wall and CPU seconds per phase, the child's peak
+//   RSS, PSNR, and whether the mesh is the same as with the first thread count; then the
+//   speed-up of each thread count over the first.
 #include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -46,6 +53,8 @@ struct Config {
   std::string timing;
   int timing_triangles = 10000;
   std::string large;
+  std::vector<std::string> scale;
+  std::vector<int> scale_threads = {1, 2};
   int threads = 2;
   std::vector<std::pair<std::string, double>> overrides;  // --opt name=value
 };
@@ -147,6 +156,106 @@ void PrintPhases(const sdvi::VectorizeReport& r) {
   std::printf("\n\n");
 }
 
+// One --scale run, measured in a child process.
+struct ScaleRun {
+  int ok = 0;
+  int width = 0, height = 0;
+  double wall = 0, cpu = 0;  // seconds: load + vectorize; CPU = user + system
+  double peak_mib = 0;       // the child's peak RSS
+  sdvi::VectorizeTimings seconds;
+  uint32_t vertices = 0, triangles = 0;
+  double psnr = 0;
+  uint64_t mesh_hash = 0;  // FNV-1a of the vertices' and triangles' bytes
+};
+
+uint64_t HashBytes(uint64_t h, const void* data, size_t size) {
+  const unsigned char* p = static_cast<const unsigned char*>(data);
+  for (size_t i = 0; i < size; ++i) h = (h ^ p[i]) * 1099511628211ull;
+  return h;
+}
+
+ScaleRun RunScaleChild(const std::string& path, int threads) {
+  ScaleRun run;
+  int fds[2];
+  if (pipe(fds) != 0) return run;
+  const pid_t pid = fork();
+  if (pid == 0) {
+    close(fds[0]);
+    const auto start = std::chrono::steady_clock::now();
+    ScaleRun r;
+    sdvi::StatusOr<sdvi::Raster> raster = sdvi::LoadRaster(path);
+    if (raster.ok()) {
+      const double load = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      r.width = raster->width;
+      r.height = raster->height;
+      auto result = Run(*raster, sdvi::VectorizeOptions{}, threads);
+      if (result.ok()) {
+        r.ok = 1;
+        r.seconds = result->report.seconds;
+        r.seconds.load = load;
+        r.vertices = result->report.vertices;
+        r.triangles = result->report.triangles;
+        r.psnr = result->report.psnr;
+        const sdvi::Image& m = result->image;
+        r.mesh_hash = HashBytes(1469598103934665603ull, m.vertices.data(), m.vertices.size() * sizeof(sdvi::Vertex));
+        r.mesh_hash = HashBytes(r.mesh_hash, m.triangles.data(), m.triangles.size() * sizeof(sdvi::Triangle));
+      } else {
+        std::fprintf(stderr, "%s: %s\n", path.c_str(), result.status().ToString().c_str());
+      }
+    } else {
+      std::fprintf(stderr, "%s\n", raster.status().ToString().c_str());
+    }
+    r.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    r.cpu = usage.ru_utime.tv_sec + usage.ru_utime.tv_usec * 1e-6 + usage.ru_stime.tv_sec + usage.ru_stime.tv_usec * 1e-6;
+    r.peak_mib = usage.ru_maxrss / 1024.0;
+    const bool written = write(fds[1], &r, sizeof(r)) == ssize_t(sizeof(r));
+    _exit(written ? 0 : 1);
+  }
+  close(fds[1]);
+  if (pid > 0) {
+    if (read(fds[0], &run, sizeof(run)) != ssize_t(sizeof(run))) run = ScaleRun();
+    int status = 0;
+    waitpid(pid, &status, 0);
+  }
+  close(fds[0]);
+  return run;
+}
+
+// --scale: the table of the large-image runs.
+void PrintScale(const Config& c) {
+  std::printf("## Large images as they are, default budget, one child process per run\n\n");
+  std::printf("| image | threads | wall s | CPU s | features | triangulate + flips | surface | coverage | "
+              "assemble | solve | refine | metrics | peak RSS MiB | vertices | PSNR dB | same mesh |\n"
+              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const std::string& path : c.scale) {
+    std::vector<ScaleRun> runs;
+    for (int threads : c.scale_threads) {
+      const ScaleRun r = RunScaleChild(path, threads);
+      runs.push_back(r);
+      if (!r.ok) {
+        std::printf("| %s | %d | failed |\n", ShortName(path).c_str(), threads);
+        continue;
+      }
+      const sdvi::VectorizeTimings& t = r.seconds;
+      std::printf("| %s %dx%d | %d | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.0f | %u | "
+                  "%.2f | %s |\n",
+                  ShortName(path).c_str(), r.width, r.height, threads, r.wall, r.cpu, t.features, t.triangulate,
+                  t.surface, t.coverage, t.assemble, t.solve, t.refine, t.metrics, r.peak_mib, r.vertices, r.psnr,
+                  runs.size() == 1 ? "-" : (runs[0].ok && r.mesh_hash == runs[0].mesh_hash ? "yes" : "NO"));
+      std::fflush(stdout);
+    }
+    for (size_t k = 1; k < runs.size(); ++k) {
+      if (!runs[0].ok || !runs[k].ok) continue;
+      std::printf("\n%s: %d threads vs %d: wall x%.2f, vectorize x%.2f\n", ShortName(path).c_str(),
+                  c.scale_threads[k], c.scale_threads[0], runs[0].wall / runs[k].wall,
+                  runs[0].seconds.total / runs[k].seconds.total);
+    }
+    std::printf("\n");
+  }
+}
+
 int ParseArgs(int argc, char** argv, Config& c) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -180,6 +289,19 @@ int ParseArgs(int argc, char** argv, Config& c) {
       c.timing_triangles = std::stoi(value());
     } else if (a == "--large") {
       c.large = value();
+    } else if (a == "--scale") {
+      c.scale.push_back(value());
+    } else if (a == "--scale-threads") {
+      c.scale_threads.clear();
+      std::string list = value();
+      size_t start = 0;
+      while (start <= list.size()) {
+        const size_t comma = list.find(',', start);
+        const std::string item = list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        if (!item.empty()) c.scale_threads.push_back(std::max(1, std::stoi(item)));
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+      }
     } else if (a == "--opt") {
       const std::string kv = value();
       const size_t eq = kv.find('=');
@@ -206,7 +328,8 @@ int main(int argc, char** argv) {
   Config config;
   if (ParseArgs(argc, argv, config) != 0) return 1;
   g_config = &config;
-  const bool only_special = config.images.empty() && (!config.timing.empty() || !config.large.empty());
+  const bool only_special =
+      config.images.empty() && (!config.timing.empty() || !config.large.empty() || !config.scale.empty());
   if (config.images.empty() && !only_special) config.images = ListImages(config.data);
   if (!config.table && !config.ablations) config.images.clear();
 
@@ -305,6 +428,8 @@ int main(int argc, char** argv) {
                 r.vertices, r.triangles, r.psnr, r.mssim, r.mean_error);
     PrintPhases(r);
   }
+
+  if (!config.scale.empty()) PrintScale(config);
 
   if (!config.large.empty()) {
     sdvi::StatusOr<sdvi::Raster> small = sdvi::LoadRaster(config.large);
