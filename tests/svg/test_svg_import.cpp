@@ -9,6 +9,7 @@
 
 #include "sdvi/bspline.h"
 #include "sdvi/svg.h"
+#include "svg_internal.h"
 
 namespace {
 
@@ -420,4 +421,31 @@ TEST_CASE("svg artwork: a thin fill drawn over itself thousands of times stays l
   CHECK(traced->shapes[0].outlines.size() == 4000);
   sdvi::SvgArtworkOptions options;
   for (const sdvi::FeatureCurve& c : sdvi::ArtworkFeatures(traced->shapes, *reference, options)) CHECK(c.width == 0);
+}
+
+TEST_CASE("svg geometry: text comes as glyph outlines; glyphs drawn from a font are counted", "[svg]") {
+  // librsvg fills the glyphs' outlines: the trace has them and no show-glyphs. (Letters
+  // with curves: cairo 1.16's script surface refuses the fill of a path made only of
+  // horizontal and vertical lines that is not a set of boxes, e.g. the text "Hi" in DejaVu
+  // Sans, and the trace stops there, spec/SVG.md.)
+  const sdvi::SvgDocument doc = Doc(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"64\" height=\"32\">"
+      "<text x=\"4\" y=\"24\" font-family=\"DejaVu Sans, sans-serif\" font-size=\"20\">mop</text></svg>");
+  auto traced = sdvi::TraceSvgGeometry(doc, 64, 32);
+  REQUIRE(traced.ok());
+  INFO("incomplete: " << traced->incomplete);
+  CHECK(traced->incomplete.empty());
+  CHECK(traced->glyph_runs == 0);
+  REQUIRE(traced->shapes.size() == 1);
+  CHECK(traced->shapes[0].outlines.size() >= 4);  // m, o and its counter, p and its counter
+  // A script that draws text from a font (as cairo writes it for cairo_show_glyphs).
+  size_t runs = 0;
+  const std::vector<sdvi::SvgShape> shapes = sdvi::ReadCairoScript(
+      "%!CairoScript\n<< /content //COLOR_ALPHA /width 64 /height 32 >> surface context\n"
+      "<< /type 42 /source <|6Pl/b~> >> font-face\n[12 0 0 12 0 0] set-font-matrix\n"
+      "[[4 24 <0102>]] show-glyphs\nn 1 1 m 9 1 l 9 9 l h\nfill+\n[[20 24 <03>]] show-glyphs\npop\n",
+      &runs);
+  CHECK(runs == 2);
+  REQUIRE(shapes.size() == 1);
+  CHECK(shapes[0].outlines.size() == 1);
 }

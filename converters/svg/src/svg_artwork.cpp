@@ -709,6 +709,12 @@ StatusOr<SvgArtworkResult> ImportSvgArtwork(const SvgDocument& document, const S
                           " (max_outline_samples; a smaller output size needs fewer)",
                       error);
   }
+  if (geometry.glyph_runs > 0) {
+    result.warnings.push_back("approximate: " + std::to_string(geometry.glyph_runs) +
+                              " text runs are drawn from a font without their outlines; their edges are detected "
+                              "in librsvg's rendering");
+    result.approximate = true;
+  }
   if (!geometry.incomplete.empty()) {
     result.warnings.push_back("approximate: librsvg stopped tracing the outlines (" + geometry.incomplete +
                               "); only the " + std::to_string(geometry.shapes.size()) +

@@ -68,8 +68,10 @@ StatusOr<Raster> RenderSvgUnchecked(const SvgDocument& document, int width, int 
 // twice), counted without making them; ImportSvgArtwork checks it against max_outline_samples.
 double OutlineSampleCount(const std::vector<SvgShape>& shapes, const Raster& reference, double spacing);
 
-// The painted shapes in a cairo script (svg_trace.cpp has the grammar it reads).
-std::vector<SvgShape> ReadCairoScript(const std::string& script);
+// The painted shapes in a cairo script (svg_trace.cpp has the grammar it reads); when
+// glyph_runs is non-null it receives the number of show-glyphs / show-text-glyphs
+// operators (text drawn from a font, whose outlines the script does not have).
+std::vector<SvgShape> ReadCairoScript(const std::string& script, size_t* glyph_runs = nullptr);
 
 // The same for a polyline's or polygon's points (pairs of numbers).
 bool CountPolylinePoints(const std::string& points, size_t* count, std::string* what);

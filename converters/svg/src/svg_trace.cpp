@@ -14,6 +14,9 @@
 //   where they are seen: they are dropped (the artwork mode detects the pattern's edges,
 //   spec/SVG.md; repeating 10 px tiles as outline features costs more of the vertex
 //   budget than it gains).
+// Text: librsvg 2.54 fills the glyphs' outlines (m l c h fill), which are read like any
+// path. show-glyphs / show-text-glyphs (text drawn from a font, its outlines not in the
+// script) are only counted: the artwork mode then says the result is approximate.
 // Everything else (sources, patterns, image data, dictionaries) is skipped token by token:
 // strings (...) with escapes, base85 data <~ ... ~> and <| ... ~>, hex <...>, comments.
 #include <cairo-script.h>
@@ -45,6 +48,8 @@ struct GraphicsState {
 class ScriptReader {
  public:
   explicit ScriptReader(const std::string& text) : s_(text) {}
+
+  size_t glyph_runs() const { return glyph_runs_; }
 
   std::vector<SvgShape> Read() {
     std::string token;
@@ -221,6 +226,7 @@ class ScriptReader {
       surface_of_state_[states_.size() - 1].clear();
     }
     word_ = t;
+    if (t == "show-glyphs" || t == "show-text-glyphs") ++glyph_runs_;
     if (t == "n") {
       path_.clear();
     } else if (t == "m" && Take(2, a)) {
@@ -292,11 +298,17 @@ class ScriptReader {
   std::vector<std::string> surface_of_state_;  // per state depth: the surface it draws
   std::string pattern_surface_;            // the surface of the pattern being made
   bool pattern_repeat_ = false;
+  size_t glyph_runs_ = 0;  // show-glyphs / show-text-glyphs seen
 };
 
 }  // namespace
 
-std::vector<SvgShape> ReadCairoScript(const std::string& script) { return ScriptReader(script).Read(); }
+std::vector<SvgShape> ReadCairoScript(const std::string& script, size_t* glyph_runs) {
+  ScriptReader reader(script);
+  std::vector<SvgShape> shapes = reader.Read();
+  if (glyph_runs != nullptr) *glyph_runs = reader.glyph_runs();
+  return shapes;
+}
 
 StatusOr<SvgGeometry> TraceSvgGeometry(const SvgDocument& document, int width, int height) {
   if (width <= 0 || height <= 0) {
@@ -314,7 +326,7 @@ StatusOr<SvgGeometry> TraceSvgGeometry(const SvgDocument& document, int width, i
   cairo_device_finish(device);
   cairo_device_destroy(device);
   SvgGeometry geometry;
-  geometry.shapes = ReadCairoScript(script);
+  geometry.shapes = ReadCairoScript(script, &geometry.glyph_runs);
   if (!rendered.ok()) geometry.incomplete = rendered.message();
   if (document.shortest_dash > 0) {
     // Upper estimate: every stroke dashed with the shortest dash; the control polygon is at

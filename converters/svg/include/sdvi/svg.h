@@ -145,6 +145,9 @@ struct SvgGeometry {
   std::vector<SvgShape> shapes;
   std::string incomplete;
   double dashes = 0;
+  // Text drawn from a font (cairo show-glyphs) rather than as the glyphs' outlines, which
+  // librsvg 2.54 never does: its outlines are not traced (spec/SVG.md, section 1).
+  size_t glyph_runs = 0;
 };
 StatusOr<SvgGeometry> TraceSvgGeometry(const SvgDocument& document, int width, int height);
 
