@@ -424,10 +424,7 @@ TEST_CASE("svg artwork: a thin fill drawn over itself thousands of times stays l
 }
 
 TEST_CASE("svg geometry: text comes as glyph outlines; glyphs drawn from a font are counted", "[svg]") {
-  // librsvg fills the glyphs' outlines: the trace has them and no show-glyphs. (Letters
-  // with curves: cairo 1.16's script surface refuses the fill of a path made only of
-  // horizontal and vertical lines that is not a set of boxes, e.g. the text "Hi" in DejaVu
-  // Sans, and the trace stops there, spec/SVG.md.)
+  // librsvg fills the glyphs' outlines: the trace has them and no show-glyphs.
   const sdvi::SvgDocument doc = Doc(
       "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"64\" height=\"32\">"
       "<text x=\"4\" y=\"24\" font-family=\"DejaVu Sans, sans-serif\" font-size=\"20\">mop</text></svg>");
@@ -448,4 +445,35 @@ TEST_CASE("svg geometry: text comes as glyph outlines; glyphs drawn from a font 
   CHECK(runs == 2);
   REQUIRE(shapes.size() == 1);
   CHECK(shapes[0].outlines.size() == 1);
+}
+
+TEST_CASE("svg geometry: straight-edged fills that are not boxes do not stop the trace", "[svg]") {
+  // cairo 1.16's script surface refuses these fills (INVALID_PATH_DATA) and everything after
+  // them: a T-shaped polygon, text whose glyphs are all straight ("HI TILT"), then a circle.
+  const sdvi::SvgDocument doc = Doc(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"160\" height=\"40\">"
+      "<path d=\"M 2 2 H 12 V 6 H 8 V 12 H 6 V 6 H 2 Z\" fill=\"#800000\"/>"
+      "<text x=\"20\" y=\"30\" font-family=\"DejaVu Sans, sans-serif\" font-size=\"20\">HI TILT</text>"
+      "<circle cx=\"140\" cy=\"20\" r=\"10\" fill=\"#008000\"/></svg>");
+  auto traced = sdvi::TraceSvgGeometry(doc, 160, 40);
+  REQUIRE(traced.ok());
+  INFO("incomplete: " << traced->incomplete);
+  CHECK(traced->incomplete.empty());
+  REQUIRE(traced->shapes.size() == 3);
+  // The T: its 8 corners within 0.003 px (the trace turned by 0.01 rad and back, on cairo's
+  // 1/256 px grid), in order.
+  const std::vector<sdvi::Point2> corners = {{2, 2}, {12, 2}, {12, 6}, {8, 6}, {8, 12}, {6, 12}, {6, 6}, {2, 6}};
+  REQUIRE(traced->shapes[0].outlines.size() == 1);
+  const sdvi::SvgOutline& t = traced->shapes[0].outlines[0];
+  REQUIRE(t.points.size() == 3 * 8 + 1);
+  for (size_t k = 0; k < 8; ++k) {
+    CHECK(t.points[3 * k].x == Approx(corners[k].x).margin(0.003));
+    CHECK(t.points[3 * k].y == Approx(corners[k].y).margin(0.003));
+  }
+  CHECK(traced->shapes[1].outlines.size() >= 6);  // H, I, T, I, L, T
+  REQUIRE(traced->shapes[2].outlines.size() == 1);
+  const std::vector<sdvi::Point2>& circle = traced->shapes[2].outlines[0].points;
+  for (size_t k = 0; k < circle.size(); k += 3) {  // the segments' ends lie on the circle
+    CHECK(std::hypot(circle[k].x - 140, circle[k].y - 20) == Approx(10).margin(0.01));
+  }
 }

@@ -35,6 +35,15 @@
 namespace sdvi {
 namespace {
 
+// cairo 1.16's script surface refuses the fill of a path made only of horizontal and
+// vertical lines that is not a set of boxes (an L- or T-shaped polygon, straight-edged
+// glyphs such as "Hi") with INVALID_PATH_DATA, and then every later operation. A trace that
+// stops with an error is made again with the drawing turned by this angle (radians) about
+// the origin, and its shapes turned back: turned, no path with an edge of 0.4 px or more is
+// rectilinear (the script's coordinates have 1/256 px steps; the shapes come back within
+// 0.003 px). Rotation keeps lengths, so stroke widths (sqrt |det| of the CTM) are unchanged.
+constexpr double kTraceTurn = 0.01;
+
 cairo_status_t AppendScript(void* closure, const unsigned char* data, unsigned int length) {
   static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
   return CAIRO_STATUS_SUCCESS;
@@ -310,24 +319,56 @@ std::vector<SvgShape> ReadCairoScript(const std::string& script, size_t* glyph_r
   return shapes;
 }
 
-StatusOr<SvgGeometry> TraceSvgGeometry(const SvgDocument& document, int width, int height) {
-  if (width <= 0 || height <= 0) {
-    return Status(StatusCode::kInvalidArgument, document.name + ": trace size must be positive");
-  }
+namespace {
+
+// librsvg draws the document into a cairo script surface turned by `turn` radians about the
+// origin; the shapes read back are turned back. False when librsvg stopped with an error
+// (*message says why; the shapes before it are kept).
+bool TraceOnce(const SvgDocument& document, int width, int height, double turn, SvgGeometry* geometry,
+               std::string* message) {
   std::string script;
   cairo_device_t* device = cairo_script_create_for_stream(AppendScript, &script);
   cairo_script_set_mode(device, CAIRO_SCRIPT_MODE_ASCII);
   cairo_surface_t* surface = cairo_script_surface_create(device, CAIRO_CONTENT_COLOR_ALPHA, width, height);
   cairo_t* cr = cairo_create(surface);
+  if (turn != 0) cairo_rotate(cr, turn);
   Status rendered = RenderWithRsvg(document, cr, width, height, nullptr, /*traced=*/true);
   cairo_destroy(cr);
   cairo_surface_finish(surface);
   cairo_surface_destroy(surface);
   cairo_device_finish(device);
   cairo_device_destroy(device);
+  geometry->shapes = ReadCairoScript(script, &geometry->glyph_runs);
+  if (turn != 0) {
+    const double c = std::cos(turn), s = std::sin(turn);
+    for (SvgShape& shape : geometry->shapes) {
+      for (SvgOutline& outline : shape.outlines) {
+        for (Point2& p : outline.points) p = {c * p.x + s * p.y, -s * p.x + c * p.y};
+      }
+    }
+  }
+  *message = rendered.ok() ? std::string() : rendered.message();
+  return rendered.ok();
+}
+
+}  // namespace
+
+StatusOr<SvgGeometry> TraceSvgGeometry(const SvgDocument& document, int width, int height) {
+  if (width <= 0 || height <= 0) {
+    return Status(StatusCode::kInvalidArgument, document.name + ": trace size must be positive");
+  }
   SvgGeometry geometry;
-  geometry.shapes = ReadCairoScript(script, &geometry.glyph_runs);
-  if (!rendered.ok()) geometry.incomplete = rendered.message();
+  std::string message;
+  if (!TraceOnce(document, width, height, 0, &geometry, &message)) {
+    // Traced again turned (kTraceTurn); kept when that one completes.
+    SvgGeometry turned;
+    std::string ignored;
+    if (TraceOnce(document, width, height, kTraceTurn, &turned, &ignored)) {
+      geometry = std::move(turned);
+      message.clear();
+    }
+  }
+  geometry.incomplete = message;
   if (document.shortest_dash > 0) {
     // Upper estimate: every stroke dashed with the shortest dash; the control polygon is at
     // least as long as the curve.
