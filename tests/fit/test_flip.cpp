@@ -118,3 +118,34 @@ TEST_CASE("vectorize edge flips give the same mesh for any thread count", "[vect
     CHECK(many.triangles == one.triangles);
   }
 }
+
+TEST_CASE("vectorize edge flips give the same meshes with the error cache of earlier calls", "[vectorize][flip]") {
+  // Two triangulations of one image sharing most triangles (the second adds samples in one
+  // corner), as the vectorizer's rounds do: flipping both with one cache gives the meshes
+  // flipping each without it gives, and the cache holds the last call's errors.
+  const sdvi::Raster raster = sdvi::MakeSampleImage(160, 120);
+  std::vector<sdvi::Point2> samples;
+  for (int y = 3; y < 120; y += 5) {
+    for (int x = 3 + (y % 3); x < 160; x += 5) samples.push_back({x + 0.5, y + 0.5});
+  }
+  std::vector<sdvi::Point2> more = samples;
+  for (int y = 5; y < 40; y += 5) {
+    for (int x = 5; x < 40; x += 5) more.push_back({x + 0.25, y + 0.75});
+  }
+  auto first = sdvi::BuildControlMesh(160, 120, {}, samples, sdvi::ControlMeshOptions());
+  auto second = sdvi::BuildControlMesh(160, 120, {}, more, sdvi::ControlMeshOptions());
+  REQUIRE(first.ok());
+  REQUIRE(second.ok());
+  sdvi::Image a = *first, b = *second;
+  const int flips_a = sdvi::FlipEdgesToData(a, raster, nullptr, 16, 1.0, 1);
+  const int flips_b = sdvi::FlipEdgesToData(b, raster, nullptr, 16, 1.0, 1);
+  for (int threads : {1, 3}) {
+    sdvi::FlipErrorCache cache;
+    sdvi::Image ca = *first, cb = *second;
+    CHECK(sdvi::FlipEdgesToData(ca, raster, nullptr, 16, 1.0, threads, &cache) == flips_a);
+    CHECK(cache.size() > ca.triangles.size());
+    CHECK(sdvi::FlipEdgesToData(cb, raster, nullptr, 16, 1.0, threads, &cache) == flips_b);
+    CHECK(ca.triangles == a.triangles);
+    CHECK(cb.triangles == b.triangles);
+  }
+}

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <vector>
 
 #include "parallel.h"
@@ -111,8 +112,24 @@ class QuadError {
 
 }  // namespace
 
+const double* FlipErrorCache::Find(const std::array<uint32_t, 6>& key) const {
+  const auto it = std::lower_bound(previous_.begin(), previous_.end(), key,
+                                   [](const Entry& e, const std::array<uint32_t, 6>& k) { return e.key < k; });
+  return it != previous_.end() && it->key == key ? &it->error : nullptr;
+}
+
+void FlipErrorCache::EndCall() {
+  std::sort(current_.begin(), current_.end(), [](const Entry& a, const Entry& b) { return a.key < b.key; });
+  current_.erase(std::unique(current_.begin(), current_.end(),
+                             [](const Entry& a, const Entry& b) { return a.key == b.key; }),
+                 current_.end());
+  previous_.swap(current_);
+  current_.clear();
+  current_.shrink_to_fit();
+}
+
 int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int passes,
-                    double min_angle_deg, int threads) {
+                    double min_angle_deg, int threads, FlipErrorCache* cache) {
   const int width = raster.width, height = raster.height;
   if (passes <= 0 || mesh.triangles.empty() || width <= 0 || height <= 0) return 0;
   // Vertex colours: the image smoothed by a Gaussian of sigma 1 px, bilinear.
@@ -137,6 +154,21 @@ int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int p
     }
   }
   const QuadError error(mesh, raster, mask, colour);
+  auto key_of = [&](const std::array<uint32_t, 3>& t) {
+    std::array<uint32_t, 6> key;
+    for (int k = 0; k < 3; ++k) {
+      std::memcpy(&key[2 * k], &mesh.vertices[t[k]].x, 4);
+      std::memcpy(&key[2 * k + 1], &mesh.vertices[t[k]].y, 4);
+    }
+    return key;
+  };
+  // The error of triangle t, from the cache when it holds it.
+  auto triangle_error_of = [&](const std::array<uint32_t, 3>& t) {
+    if (cache != nullptr) {
+      if (const double* e = cache->Find(key_of(t))) return *e;
+    }
+    return error.Triangle(t);
+  };
   const double min_sine = std::sin(min_angle_deg * 3.14159265358979323846 / 180.0);
   std::vector<Edge> creases = mesh.crease_edges;
   std::sort(creases.begin(), creases.end());
@@ -211,15 +243,22 @@ int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int p
       }
     }
     fit_internal::ForEachChunk(unknown.size(), kChunk, threads, [&](size_t, size_t k0, size_t k1) {
-      for (size_t k = k0; k < k1; ++k) triangle_error[unknown[k]] = error.Triangle(mesh.triangles[unknown[k]].v);
+      for (size_t k = k0; k < k1; ++k) triangle_error[unknown[k]] = triangle_error_of(mesh.triangles[unknown[k]].v);
     });
     fit_internal::ForEachChunk(candidates.size(), kChunk, threads, [&](size_t, size_t k0, size_t k1) {
       for (size_t k = k0; k < k1; ++k) {
         Candidate& c = candidates[k];
-        c.after0 = error.Triangle({c.r, c.s, c.e.a});
-        c.after1 = error.Triangle({c.r, c.s, c.e.b});
+        c.after0 = triangle_error_of({c.r, c.s, c.e.a});
+        c.after1 = triangle_error_of({c.r, c.s, c.e.b});
       }
     });
+    if (cache != nullptr) {
+      for (uint32_t t : unknown) cache->Add(key_of(mesh.triangles[t].v), triangle_error[t]);
+      for (const Candidate& c : candidates) {
+        cache->Add(key_of({c.r, c.s, c.e.a}), c.after0);
+        cache->Add(key_of({c.r, c.s, c.e.b}), c.after1);
+      }
+    }
     std::vector<uint8_t> touched(mesh.triangles.size(), 0);
     int pass_flips = 0;
     for (const Candidate& c : candidates) {
@@ -245,6 +284,7 @@ int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int p
     flips += pass_flips;
     if (pass_flips == 0) break;
   }
+  if (cache != nullptr) cache->EndCall();
   return flips;
 }
 

@@ -234,6 +234,7 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
     mesh_options.max_edge = float(4.0 * std::sqrt(double(domain_pixels) / vertex_budget));
   }
   const double diagonal = std::hypot(double(width), double(height));
+  FlipErrorCache flip_cache;  // the rounds' triangulations share most triangles
   Image mesh;
   for (;;) {
     SDVI_ASSIGN_OR_RETURN(mesh, BuildControlMesh(width, height, curves, samples, mesh_options));
@@ -252,7 +253,8 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
       mesh_options.max_edge *= 2;
     }
   }
-  FlipEdgesToData(mesh, raster, mask, options.flip_passes, options.flip_min_angle, options.threads);
+  FlipEdgesToData(mesh, raster, mask, options.flip_passes, options.flip_min_angle, options.threads,
+                  &flip_cache);
   seconds.triangulate += SecondsSince(start);
 
   ColorFitOptions fit_options = options.fit;
@@ -335,7 +337,7 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
       added.resize(std::min(added.size() - 1, size_t(keep)));
     }
     if (accepted) FlipEdgesToData(candidate, raster, mask, options.flip_passes, options.flip_min_angle,
-                                  options.threads);
+                                  options.threads, &flip_cache);
     seconds.triangulate += SecondsSince(start);
     if (!accepted) break;
 

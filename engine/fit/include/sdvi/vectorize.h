@@ -32,6 +32,7 @@
 // vertices whatever the budget (spec/METHOD.md section 6 step 4).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -177,8 +178,32 @@ std::vector<float> ErrorMap(const ColorFit& fit, const Raster& target, const Ras
 // quadrilateral's pixels below 0.98 x that of the current diagonal, and neither new triangle
 // has an angle under min_angle_deg. Orientation is kept. Returns the number of flips. The
 // errors are computed on `threads` threads; the result is the same for any thread count.
+//
+// `cache` (optional) carries the triangle errors from one call to the next on meshes of the
+// same raster and mask (the vectorizer's rounds re-triangulate, and most triangles come
+// back): an error is keyed by its triangle's three vertex positions in order, so a cached
+// value is the value the call would compute. It keeps the errors of the last call only.
+class FlipErrorCache {
+ public:
+  struct Entry {
+    std::array<uint32_t, 6> key;  // x, y of the three vertices, float bits, in order
+    double error;
+  };
+  // The cached error of key, or nullptr. Safe to call from several threads.
+  const double* Find(const std::array<uint32_t, 6>& key) const;
+  // Records an error computed or found by the current call.
+  void Add(const std::array<uint32_t, 6>& key, double error) { current_.push_back({key, error}); }
+  // Ends a call: what it recorded becomes what later calls find.
+  void EndCall();
+  size_t size() const { return previous_.size(); }
+
+ private:
+  std::vector<Entry> previous_;  // sorted by key, unique
+  std::vector<Entry> current_;
+};
+
 int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int passes,
-                    double min_angle_deg, int threads = 1);
+                    double min_angle_deg, int threads = 1, FlipErrorCache* cache = nullptr);
 
 // The minimum distance of a new sample, as a function of the error e at its pixel:
 // clamp(base * (reference_error / e)^exponent, min, max). exponent 0: a fixed spacing;
