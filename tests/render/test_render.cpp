@@ -156,9 +156,12 @@ TEST_CASE("Rendering a region equals the same crop of the full render", "[render
 TEST_CASE("The level grows with the output scale and respects the bounds", "[render][levels]") {
   const Image img = FeatureImage();  // mean control edge ~5 px
   RenderOptions o = AtScale(img, 1);
-  CHECK(ChooseRenderLevels(img, o) == 2);  // default: fine edges <= 8 px, at least the fit's level
+  CHECK(ChooseRenderLevels(img, o) == 2);  // default: fine edges <= 16 px, at least the fit's level
   o.viewport.scale_x = o.viewport.scale_y = 8;
-  CHECK(ChooseRenderLevels(img, o) == 3);  // 40 px -> 5 px
+  CHECK(ChooseRenderLevels(img, o) == 2);  // 40 px -> 10 px
+  o.viewport.scale_x = o.viewport.scale_y = 16;
+  CHECK(ChooseRenderLevels(img, o) == 3);  // 80 px -> 10 px
+  o.viewport.scale_x = o.viewport.scale_y = 8;
   o.max_fine_edge_px = 1;
   CHECK(ChooseRenderLevels(img, o) == 6);  // 40 px -> 0.6 px
   o.viewport.scale_x = o.viewport.scale_y = 1;

@@ -51,13 +51,13 @@ struct RenderOptions {
   // Level choice when levels = -1 (ChooseRenderLevels): the smallest r >= min_levels whose
   // fine edges (mean control edge length / 2^r, in output pixels) are <= max_fine_edge_px,
   // capped at max_levels and lowered until the refined region has at most 2^25 fine
-  // triangles. Inside a fine triangle colour is interpolated linearly. The default of 8 px
-  // (not 1): the piecewise-linear fine mesh converges so fast that, measured by bench_render
-  // at x8 on a 9800-triangle mesh, level 3 (fine edges ~7 px) differs from level 5 (~2 px)
-  // by 73 dB PSNR and level 2 by 61 dB, while level 5 costs ~12x the time of level 3.
-  // min_levels keeps the fit's level at scales <= 1; set max_fine_edge_px = 1 for
-  // one-pixel fine triangles.
-  double max_fine_edge_px = 8.0;
+  // triangles. Inside a fine triangle colour is interpolated linearly. The default of 16 px
+  // (not 1): the piecewise-linear fine mesh converges so fast, and its error is so nearly
+  // independent of the scale (the colour's error dominates; spec/METHOD.md section 4), that
+  // level 3 is within 57-78 dB of level 5 at x8 and x16 alike, while level 4 costs 4-6x the
+  // time of level 3. min_levels keeps the fit's level at scales <= 1; set
+  // max_fine_edge_px = 1 for one-pixel fine triangles.
+  double max_fine_edge_px = 16.0;
   int min_levels = 2;  // the colour fit's level (paper: r = 2); never render coarser
   int max_levels = 6;
   bool antialias = true;  // coverage anti-aliasing of the domain edge
