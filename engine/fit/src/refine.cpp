@@ -129,10 +129,12 @@ ContentBlocks FindContentBlocks(const Raster& raster, const Raster* mask, int bl
   for (int r = 0; r < content.rows; ++r) {
     for (int c = 0; c < content.columns; ++c) {
       float low[3] = {INFINITY, INFINITY, INFINITY}, high[3] = {-INFINITY, -INFINITY, -INFINITY};
+      bool in_domain = false;
       const int x1 = std::min(raster.width, (c + 1) * block), y1 = std::min(raster.height, (r + 1) * block);
       for (int y = r * block; y < y1; ++y) {
         for (int x = c * block; x < x1; ++x) {
           if (!InDomain(raster, mask, x, y)) continue;
+          in_domain = true;
           for (int k = 0; k < channels; ++k) {
             low[k] = std::min(low[k], raster.at(x, y, k));
             high[k] = std::max(high[k], raster.at(x, y, k));
@@ -142,6 +144,7 @@ ContentBlocks FindContentBlocks(const Raster& raster, const Raster* mask, int bl
       for (int k = 0; k < channels; ++k) {
         if (high[k] - low[k] > tolerance) busy[size_t(r) * content.columns + c] = 1;
       }
+      content.domain_blocks += in_domain ? 1 : 0;
     }
   }
   const size_t stride = size_t(content.columns) + 1;

@@ -151,6 +151,11 @@ bool ContentBlocks::AnyBusy(double x0, double y0, double x1, double y1) const {
   return sum(r1 + 1, c1 + 1) - sum(r0, c1 + 1) - sum(r1 + 1, c0) + sum(r0, c0) > 0;
 }
 
+double ContentBlocks::BusyShare() const {
+  if (block <= 0 || busy_sum.empty() || domain_blocks == 0) return 1.0;
+  return std::min(1.0, double(busy_sum.back()) / double(domain_blocks));
+}
+
 StatusOr<Image> BuildControlMesh(int width, int height, const std::vector<FeatureCurve>& curves,
                                  const std::vector<Point2>& interior_samples,
                                  const ControlMeshOptions& options) {

@@ -15,6 +15,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "sdvi/feature_budget.h"
 #include "sdvi/progress.h"
 #include "sdvi/render.h"
 
@@ -42,36 +43,6 @@ double CurveLength(const FeatureCurve& c) {
     len += std::hypot(b.x - a.x, b.y - a.y);
   }
   return len;
-}
-
-// Keeps the boundary curves and the longest other curves whose polylines (twice, when
-// paired; a thin structure's up to twice that) fit in `vertex_budget` control vertices;
-// the kept curves stay in input order.
-std::vector<FeatureCurve> KeepFeaturesWithinBudget(const std::vector<FeatureCurve>& curves,
-                                                   double vertex_budget, bool pairs) {
-  std::vector<size_t> order(curves.size());
-  std::iota(order.begin(), order.end(), size_t(0));
-  std::vector<double> length(curves.size());
-  for (size_t i = 0; i < curves.size(); ++i) length[i] = CurveLength(curves[i]);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](size_t a, size_t b) { return length[a] > length[b]; });
-  std::vector<uint8_t> keep(curves.size(), 0);
-  double used = 0;
-  for (size_t i : order) {
-    if (curves[i].boundary) {
-      keep[i] = 1;
-      continue;
-    }
-    const double cost = double(curves[i].points.size()) * (pairs ? 2 : 1) * (curves[i].width > 0 ? 2 : 1);
-    if (used + cost > vertex_budget) continue;
-    used += cost;
-    keep[i] = 1;
-  }
-  std::vector<FeatureCurve> kept;
-  for (size_t i = 0; i < curves.size(); ++i) {
-    if (keep[i]) kept.push_back(curves[i]);
-  }
-  return kept;
 }
 
 // Drops the shorter half of the non-boundary curves (at least one); false if none is left.
@@ -207,25 +178,37 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
   SDVI_ASSIGN_OR_RETURN(std::vector<FeatureCurve> detected,
                         DetectFeatures(raster, mask, feature_options));
   if (given != nullptr) detected.insert(detected.end(), given->begin(), given->end());
-  std::vector<FeatureCurve> curves = KeepFeaturesWithinBudget(
-      detected, options.max_feature_fraction * vertex_budget, options.mesh.pairs);
+  // The quality stop's blocks: interior samples go to busy blocks only.
+  const ContentBlocks content =
+      FindContentBlocks(raster, mask, options.content_block, options.error_threshold);
+  // The feature budget: the interior's share (1 - max_feature_fraction) applies to the busy
+  // part of the domain; what the flat part would have had goes to the features.
+  FeatureBudgetOptions budget_options;
+  budget_options.vertex_budget =
+      (1.0 - (1.0 - options.max_feature_fraction) * content.BusyShare()) * vertex_budget;
+  budget_options.interior_spacing = std::sqrt(double(domain_pixels) / vertex_budget);
+  budget_options.pairs = options.mesh.pairs;
+  FeatureBudgetStats budget_stats;
+  std::vector<FeatureCurve> curves = FitFeaturesToBudget(detected, budget_options, &budget_stats);
   seconds.features += SecondsSince(start);
 
   // 3-4. Initial interior samples and the control mesh.
   phase("mesh");
-  start = Clock::now();
   const double clearance = std::max(1.0, options.feature_clearance);
-  std::vector<uint8_t> blocked = BlockedPixels(raster, mask, nullptr, curves, clearance);
   const double initial_count = std::max(4.0, options.initial_fraction * vertex_budget);
   const double grid_spacing = std::sqrt(2.0 * double(domain_pixels) / (std::sqrt(3.0) * initial_count));
-  std::vector<Point2> samples = GridSamples(width, height, grid_spacing, blocked);
-  // The quality stop: no grid sample and no size bound where the colour is flat.
-  const ContentBlocks content =
-      FindContentBlocks(raster, mask, options.content_block, options.error_threshold);
-  std::erase_if(samples, [&](const Point2& p) { return !content.AnyBusy(p.x, p.y, p.x, p.y); });
-  seconds.refine += SecondsSince(start);
+  std::vector<uint8_t> blocked;
+  std::vector<Point2> samples;
+  auto place_samples = [&] {
+    const Clock::time_point samples_start = Clock::now();
+    blocked = BlockedPixels(raster, mask, nullptr, curves, clearance);
+    samples = GridSamples(width, height, grid_spacing, blocked);
+    // The quality stop: no grid sample and no size bound where the colour is flat.
+    std::erase_if(samples, [&](const Point2& p) { return !content.AnyBusy(p.x, p.y, p.x, p.y); });
+    seconds.refine += SecondsSince(samples_start);
+  };
+  place_samples();
 
-  start = Clock::now();
   ControlMeshOptions mesh_options = options.mesh;
   if (options.content_block > 0) mesh_options.content = &content;
   if (mesh_options.max_edge <= 0) {
@@ -236,8 +219,22 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
   const double diagonal = std::hypot(double(width), double(height));
   FlipErrorCache flip_cache;  // the rounds' triangulations share most triangles
   Image mesh;
-  for (;;) {
+  start = Clock::now();
+  for (int feature_rounds = 0;; ++feature_rounds) {
     SDVI_ASSIGN_OR_RETURN(mesh, BuildControlMesh(width, height, curves, samples, mesh_options));
+    const double overshoot = double(mesh.vertices.size()) - 0.97 * vertex_budget;
+    const double floor_budget = options.max_feature_fraction * vertex_budget;
+    if (triangle_cap == 0 && overshoot > 0 && budget_stats.vertices_kept < budget_stats.vertices_detected &&
+        budget_options.vertex_budget > floor_budget && feature_rounds < 4) {
+      // The features were cut to their budget and the mesh (with the mesher's Steiner
+      // points around them) is over the vertex budget: a smaller feature budget, down to
+      // max_feature_fraction of the budget at least.
+      budget_options.vertex_budget =
+          std::max(floor_budget, std::min(budget_options.vertex_budget, budget_stats.vertices_kept) - 1.25 * overshoot);
+      curves = FitFeaturesToBudget(detected, budget_options, &budget_stats);
+      place_samples();
+      continue;
+    }
     if (triangle_cap == 0 || mesh.triangles.size() <= triangle_cap) break;
     // Over budget before any refinement: fewer grid samples first, then fewer features,
     // then a looser size bound.

@@ -90,9 +90,12 @@ struct ContentBlocks {
   int block = 0;                   // px; 0: no blocks (everything counts as busy)
   int columns = 0, rows = 0;
   std::vector<uint32_t> busy_sum;  // (rows + 1) x (columns + 1) summed-area table of busy flags
+  uint32_t domain_blocks = 0;      // blocks holding a domain pixel
   // True when a block meeting the box [x0, x1] x [y0, y1] (px, clamped to the image) is
   // busy, or when there are no blocks.
   bool AnyBusy(double x0, double y0, double x1, double y1) const;
+  // Busy blocks / domain blocks (1 when there are no blocks).
+  double BusyShare() const;
 };
 
 struct ControlMeshOptions {

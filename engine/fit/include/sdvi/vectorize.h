@@ -66,7 +66,9 @@ struct VectorizeOptions {
   int content_block = 16;
   double initial_fraction = 0.05;  // share of the vertex budget placed as the initial grid
   double growth = 0.2;             // a round adds at most growth x the current vertex count
-  // Features of at most this share of the vertex budget are kept (the longest first).
+  // The features' share of the vertex budget on the busy part of the domain (all of it on
+  // the flat part); within it they are kept, coarsened or dropped by value per vertex
+  // (FitFeaturesToBudget, sdvi/feature_budget.h; spec/METHOD.md section 6 step 3).
   double max_feature_fraction = 0.5;
   // Data-dependent edge flips after every triangulation (FlipEdgesToData; beyond the
   // paper, which keeps the CDT as it is).

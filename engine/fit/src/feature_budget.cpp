@@ -1,0 +1,202 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The feature layer's share of the vertex budget: value per vertex, coarser polygons
+// before dropping (rules in sdvi/feature_budget.h, spec/METHOD.md section 6 step 3).
+#include "sdvi/feature_budget.h"
+
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+
+#include "sdvi/bspline.h"
+
+namespace sdvi {
+namespace {
+
+double PolygonLength(const FeatureCurve& c) {
+  double len = 0;
+  const size_t n = c.points.size();
+  for (size_t k = 0; k + 1 < n + (c.closed && n > 2 ? 1 : 0); ++k) {
+    const Point2& a = c.points[k];
+    const Point2& b = c.points[(k + 1) % n];
+    len += std::hypot(b.x - a.x, b.y - a.y);
+  }
+  return len;
+}
+
+double PointSegmentDistance(Point2 p, Point2 a, Point2 b) {
+  const double vx = b.x - a.x, vy = b.y - a.y, l2 = vx * vx + vy * vy;
+  const double t = l2 > 0 ? std::clamp(((p.x - a.x) * vx + (p.y - a.y) * vy) / l2, 0.0, 1.0) : 0.0;
+  return std::hypot(p.x - (a.x + t * vx), p.y - (a.y + t * vy));
+}
+
+// Mean distance from the points of `a` to the polyline `b`, both samples of one curve in
+// the same direction: point j is compared with the segments of b around the same share of
+// the curve (a window of 64 segments each side), so the cost is linear in the samples.
+double MeanDistance(const std::vector<Point2>& a, const std::vector<Point2>& b, bool closed) {
+  if (a.empty() || b.size() < 2) return 0;
+  const int64_t segments = closed ? int64_t(b.size()) : int64_t(b.size()) - 1;
+  constexpr int64_t kWindow = 64;
+  double sum = 0;
+  for (size_t j = 0; j < a.size(); ++j) {
+    const auto centre = int64_t(double(j) / double(a.size()) * double(segments));
+    double best = INFINITY;
+    for (int64_t k = centre - kWindow; k <= centre + kWindow; ++k) {
+      int64_t i = k;
+      if (closed) i = ((k % segments) + segments) % segments;
+      else if (k < 0 || k >= segments) continue;
+      best = std::min(best, PointSegmentDistance(a[j], b[size_t(i)], b[size_t(i + 1) % b.size()]));
+    }
+    sum += best;
+  }
+  return sum / double(a.size());
+}
+
+// The curve refitted to its own spline at a coarser tolerance and spacing (x scale);
+// *error gets the mean distance from the given spline to the new one.
+FeatureCurve Coarsen(const FeatureCurve& curve, double scale, double* error) {
+  constexpr int kPerSpan = 8;
+  const std::vector<Point2> samples = SampleFeatureCurve(curve, kPerSpan);
+  // The sample index of each corner: SampleFeatureCurve walks the open pieces between
+  // corners from the first corner (closed) or the first point (open), kPerSpan a span.
+  std::vector<uint32_t> corners;
+  for (uint32_t c : curve.corners)
+    if (c < curve.points.size()) corners.push_back(c);
+  std::sort(corners.begin(), corners.end());
+  corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+  std::vector<uint32_t> corner_samples;
+  if (curve.closed && !corners.empty()) {
+    for (uint32_t c : corners) corner_samples.push_back(kPerSpan * (c - corners.front()));
+  } else if (!curve.closed) {
+    for (uint32_t c : corners)
+      if (c > 0 && c + 1 < curve.points.size()) corner_samples.push_back(kPerSpan * c);
+  }
+  BSplineFitOptions fit;
+  fit.tolerance = 1.5 * scale;
+  fit.initial_spacing = 8 * scale;
+  fit.max_spacing = 12 * scale;
+  FeatureCurve out = FitChain(samples, curve.closed, corner_samples, fit);
+  // The new curve's samples start where the given ones do (at the first corner of a
+  // closed curve with corners, at its first point otherwise; FitChain keeps that start).
+  *error = MeanDistance(samples, SampleFeatureCurve(out, kPerSpan), curve.closed);
+  out.sharpness = curve.sharpness;
+  out.boundary = curve.boundary;
+  out.contrast = curve.contrast;
+  out.width = curve.width;
+  return out;
+}
+
+struct Choice {
+  double cost = 0, value = 0;
+  int level = -1;  // -1 dropped, 0 as given, k > 0 the k-th coarser fit
+};
+
+// The upper convex hull of (cost, value) from "dropped" (0, 0): the options worth taking,
+// by increasing cost, with strictly decreasing value per added vertex.
+std::vector<Choice> UpperHull(std::vector<Choice> choices) {
+  std::stable_sort(choices.begin(), choices.end(), [](const Choice& a, const Choice& b) {
+    return std::tie(a.cost, b.value) < std::tie(b.cost, a.value);
+  });
+  std::vector<Choice> hull;
+  for (const Choice& c : choices) {
+    if (!hull.empty() && c.value <= hull.back().value) continue;  // dominated
+    while (hull.size() >= 2) {
+      const Choice& a = hull[hull.size() - 2];
+      const Choice& b = hull.back();
+      // b lies on or below the chord a -> c: not on the hull.
+      if ((b.value - a.value) * (c.cost - a.cost) <= (c.value - a.value) * (b.cost - a.cost)) hull.pop_back();
+      else break;
+    }
+    hull.push_back(c);
+  }
+  return hull;
+}
+
+}  // namespace
+
+double FeatureVertexCost(const FeatureCurve& curve, bool pairs) {
+  return double(curve.points.size()) * (pairs ? 2 : 1) * (curve.width > 0 ? 2 : 1);
+}
+
+std::vector<FeatureCurve> FitFeaturesToBudget(const std::vector<FeatureCurve>& curves,
+                                              const FeatureBudgetOptions& options,
+                                              FeatureBudgetStats* stats) {
+  FeatureBudgetStats local;
+  FeatureBudgetStats& s = stats != nullptr ? *stats : local;
+  s = FeatureBudgetStats();
+  for (const FeatureCurve& c : curves)
+    if (!c.boundary) s.vertices_detected += FeatureVertexCost(c, options.pairs);
+  if (s.vertices_detected <= options.vertex_budget) {
+    s.vertices_kept = s.vertices_detected;
+    return curves;
+  }
+
+  // Each feature's options and the steps along their hull.
+  std::vector<std::vector<FeatureCurve>> coarse(curves.size());
+  std::vector<std::vector<Choice>> hulls(curves.size());
+  struct Step {
+    double ratio;
+    uint32_t feature, index;  // hulls[feature][index] is reached by this step
+  };
+  std::vector<Step> steps;
+  const double spacing = std::max(1e-9, options.interior_spacing);
+  for (size_t i = 0; i < curves.size(); ++i) {
+    const FeatureCurve& c = curves[i];
+    if (c.boundary) continue;
+    const double contrast = c.contrast > 0 ? double(c.contrast) : 1.0;
+    const double full_value = contrast * contrast * PolygonLength(c);
+    std::vector<Choice> choices = {{0, 0, -1}, {FeatureVertexCost(c, options.pairs), full_value, 0}};
+    double finer_cost = choices.back().cost;
+    for (int k = 1; k <= options.coarse_levels; ++k) {
+      double error = 0;
+      FeatureCurve coarser = Coarsen(c, std::ldexp(1.0, k), &error);
+      const double cost = FeatureVertexCost(coarser, options.pairs);
+      const double value = full_value * std::max(0.0, 1.0 - 12.0 * error / spacing);
+      coarse[i].push_back(std::move(coarser));
+      if (!(cost < finer_cost) || !(value > 0)) continue;
+      finer_cost = cost;
+      choices.push_back({cost, value, k});
+    }
+    hulls[i] = UpperHull(std::move(choices));
+    for (uint32_t k = 1; k < hulls[i].size(); ++k) {
+      const Choice& a = hulls[i][k - 1];
+      const Choice& b = hulls[i][k];
+      steps.push_back({(b.value - a.value) / (b.cost - a.cost), uint32_t(i), k});
+    }
+  }
+  std::stable_sort(steps.begin(), steps.end(), [](const Step& a, const Step& b) {
+    return std::tie(b.ratio, a.feature, a.index) < std::tie(a.ratio, b.feature, b.index);
+  });
+  std::vector<uint32_t> reached(curves.size(), 0);
+  std::vector<uint8_t> stopped(curves.size(), 0);
+  double used = 0;
+  for (const Step& step : steps) {
+    if (stopped[step.feature] || reached[step.feature] + 1 != step.index) continue;
+    const std::vector<Choice>& hull = hulls[step.feature];
+    const double added = hull[step.index].cost - hull[step.index - 1].cost;
+    if (used + added > options.vertex_budget) {
+      stopped[step.feature] = 1;  // its finer options come after this one
+      continue;
+    }
+    used += added;
+    reached[step.feature] = step.index;
+  }
+
+  std::vector<FeatureCurve> kept;
+  for (size_t i = 0; i < curves.size(); ++i) {
+    if (curves[i].boundary) {
+      kept.push_back(curves[i]);
+      continue;
+    }
+    const int level = hulls[i][reached[i]].level;
+    if (level < 0) {
+      ++s.dropped;
+      continue;
+    }
+    if (level > 0) ++s.coarsened;
+    kept.push_back(level == 0 ? curves[i] : coarse[i][size_t(level) - 1]);
+  }
+  s.vertices_kept = used;
+  return kept;
+}
+
+}  // namespace sdvi
