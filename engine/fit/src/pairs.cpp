@@ -123,7 +123,8 @@ PlacedPolyline Prepare(const FeatureCurve& c, double max_len) {
 // stay on that line (the next ones change by the last basis function's small weight);
 // elsewhere new points would pull the curve towards its control polygon (measured: photos
 // -0.1 to -0.8 dB when every bad segment was split).
-bool SplitSegments(PlacedPolyline& l, std::vector<bool> split, double max_len) {
+// *inserted (l's new size) marks the points added.
+bool SplitSegments(PlacedPolyline& l, std::vector<bool> split, double max_len, std::vector<bool>* inserted) {
   const size_t m = l.points.size();
   const size_t segs = l.closed ? m : m - 1;
   std::vector<bool> corner(m, false);
@@ -145,19 +146,23 @@ bool SplitSegments(PlacedPolyline& l, std::vector<bool> split, double max_len) {
       split[i] = false;
     any = any || split[i];
   }
+  inserted->assign(m, false);
   if (!any) return false;
   PlacedPolyline out;
   out.closed = l.closed;
   out.boundary = l.boundary;
+  inserted->clear();
   for (size_t i = 0; i < m; ++i) {
     if (corner[i]) out.corners.push_back(uint32_t(out.points.size()));
     out.points.push_back(l.points[i]);
+    inserted->push_back(false);
     if (i >= segs || !split[i]) continue;
     const Point2 a = l.points[i], b = l.points[(i + 1) % m];
     const int pieces = int(std::ceil(Dist(a, b) / max_len));
     for (int k = 1; k < pieces; ++k) {
       const double t = double(k) / pieces;
       out.points.push_back({a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)});
+      inserted->push_back(true);
     }
   }
   l = std::move(out);
@@ -327,8 +332,9 @@ std::vector<bool> BadSegments(const std::vector<const PlacedPolyline*>& lines, c
   return bad;
 }
 
-// Sub-polyline of points [a, b] (indices mod m) keeping the corners strictly inside.
-PlacedPolyline SubPolyline(const PlacedPolyline& l, int a, int b) {
+// Sub-polyline of points [a, b] (indices mod m) keeping the corners strictly inside and
+// leaving out the points strictly inside marked in `skip`.
+PlacedPolyline SubPolyline(const PlacedPolyline& l, int a, int b, const std::vector<bool>& skip) {
   PlacedPolyline out;
   out.closed = false;
   out.boundary = l.boundary;
@@ -337,7 +343,23 @@ PlacedPolyline SubPolyline(const PlacedPolyline& l, int a, int b) {
   for (uint32_t c : l.corners) corner[c] = true;
   for (int k = a; k <= b; ++k) {
     int i = k % m;
+    if (k != a && k != b && skip[size_t(i)]) continue;
     if (corner[i] && k != a && k != b) out.corners.push_back(uint32_t(out.points.size()));
+    out.points.push_back(l.points[i]);
+  }
+  return out;
+}
+
+// The closed polyline without the points marked in `skip` (never corners).
+PlacedPolyline WithoutPoints(const PlacedPolyline& l, const std::vector<bool>& skip) {
+  PlacedPolyline out;
+  out.closed = l.closed;
+  out.boundary = l.boundary;
+  std::vector<bool> corner(l.points.size(), false);
+  for (uint32_t c : l.corners) corner[c] = true;
+  for (size_t i = 0; i < l.points.size(); ++i) {
+    if (skip[i]) continue;
+    if (corner[i]) out.corners.push_back(uint32_t(out.points.size()));
     out.points.push_back(l.points[i]);
   }
   return out;
@@ -544,12 +566,16 @@ StatusOr<PlacedFeatures> PlaceFeatures(int width, int height, const std::vector<
     test();
     // Fine cuts: bad segments are split into pieces of at most 2 x clearance and tested
     // again, so that a crossing cuts out its neighbourhood, not whole polygon segments.
-    if (options.fine_cuts && SplitSegments(centre, bad, 2 * clearance)) test();
+    std::vector<bool> inserted(centre.points.size(), false);
+    if (options.fine_cuts && SplitSegments(centre, bad, 2 * clearance, &inserted)) test();
+    // The pieces are kept where they end a run (next to a cut); inside a run the points
+    // inserted on a straight segment are left out again: they add vertices, not shape.
     const int m = int(centre.points.size());
     const int segs = int(bad.size());
     auto emit = [&](int a, int b, bool closed) {  // points a..b (mod m)
       std::vector<uint32_t> ids;
-      for (const PlacedPolyline& line : lines) ids.push_back(place(closed ? line : SubPolyline(line, a, b)));
+      for (const PlacedPolyline& line : lines)
+        ids.push_back(place(closed ? WithoutPoints(line, inserted) : SubPolyline(line, a, b, inserted)));
       for (const auto& [first, second] : layout.pairs) out.pairs.push_back({ids[first], ids[second], sharpness});
     };
     const bool any_bad = std::find(bad.begin(), bad.end(), true) != bad.end();

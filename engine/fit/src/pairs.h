@@ -40,7 +40,8 @@ struct PlacedFeatures {
 //    pairs = false: the polygon itself, once); segments that would cross or come within
 //    the clearance of an already placed polyline, or leave the domain (the bad ones on
 //    straight parts split into pieces of at most 2 x clearance and tested again: fine
-//    cuts, unless options.fine_cuts is false), are cut out and
+//    cuts, unless options.fine_cuts is false; the split points stay only where they end
+//    a run, inside a run they are left out again), are cut out and
 //    the remaining runs (>= 2 segments) become features of their own; a polyline may not
 //    come within min(0.25, 0.4 d) of itself except between segments joined by less than
 //    twice that much polygon (a short segment at a corner); a segment shorter than 0.01 px
