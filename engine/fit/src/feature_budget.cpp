@@ -12,17 +12,6 @@
 namespace sdvi {
 namespace {
 
-double PolygonLength(const FeatureCurve& c) {
-  double len = 0;
-  const size_t n = c.points.size();
-  for (size_t k = 0; k + 1 < n + (c.closed && n > 2 ? 1 : 0); ++k) {
-    const Point2& a = c.points[k];
-    const Point2& b = c.points[(k + 1) % n];
-    len += std::hypot(b.x - a.x, b.y - a.y);
-  }
-  return len;
-}
-
 double PointSegmentDistance(Point2 p, Point2 a, Point2 b) {
   const double vx = b.x - a.x, vy = b.y - a.y, l2 = vx * vx + vy * vy;
   const double t = l2 > 0 ? std::clamp(((p.x - a.x) * vx + (p.y - a.y) * vy) / l2, 0.0, 1.0) : 0.0;

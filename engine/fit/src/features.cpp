@@ -683,4 +683,15 @@ StatusOr<std::vector<FeatureCurve>> DetectFeatures(const Raster& image, const Ra
   return curves;
 }
 
+double PolygonLength(const FeatureCurve& c) {
+  double len = 0;
+  const size_t n = c.points.size();
+  for (size_t k = 0; k + 1 < n + (c.closed && n > 2 ? 1 : 0); ++k) {
+    const Point2& a = c.points[k];
+    const Point2& b = c.points[(k + 1) % n];
+    len += std::hypot(b.x - a.x, b.y - a.y);
+  }
+  return len;
+}
+
 }  // namespace sdvi

@@ -34,17 +34,6 @@ double PsnrOf(double sum_squared_error, uint64_t pixels) {
   return mse <= 0 ? 99.0 : 10.0 * std::log10(255.0 * 255.0 / mse);
 }
 
-double CurveLength(const FeatureCurve& c) {
-  double len = 0;
-  const size_t n = c.points.size();
-  for (size_t k = 0; k + 1 < n + (c.closed && n > 2 ? 1 : 0); ++k) {
-    const Point2& a = c.points[k];
-    const Point2& b = c.points[(k + 1) % n];
-    len += std::hypot(b.x - a.x, b.y - a.y);
-  }
-  return len;
-}
-
 // Drops the shorter half of the non-boundary curves (at least one); false if none is left.
 bool DropShorterHalf(std::vector<FeatureCurve>& curves) {
   std::vector<size_t> interior;
@@ -53,7 +42,7 @@ bool DropShorterHalf(std::vector<FeatureCurve>& curves) {
   }
   if (interior.empty()) return false;
   std::stable_sort(interior.begin(), interior.end(), [&](size_t a, size_t b) {
-    return CurveLength(curves[a]) > CurveLength(curves[b]);
+    return PolygonLength(curves[a]) > PolygonLength(curves[b]);
   });
   std::vector<uint8_t> drop(curves.size(), 0);
   for (size_t k = interior.size() / 2; k < interior.size(); ++k) drop[interior[k]] = 1;

@@ -34,6 +34,9 @@ struct FeatureCurve {
                                   // outlines width px apart, placed as one unit (src/pairs.h)
 };
 
+// The length of the curve's control polygon (closing segment included when closed), px.
+double PolygonLength(const FeatureCurve& c);
+
 // Edge detection (paper step 1): the image (RGB or grey) is smoothed with a Gaussian of
 // smoothing_sigma; the colour gradient is the principal direction / magnitude of the
 // structure tensor summed over channels (sqrt(lambda1 / channels), 0..255 units per px;
