@@ -59,26 +59,14 @@
 #include "sdvi/raster_io.h"
 #include "sdvi/render.h"
 #include "sdvi/vectorize.h"
+#include "codec_bench.h"
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
+using namespace sdvi::bench;
 constexpr size_t kMaxVariants = 3;
 
 namespace {
 
-double Seconds(Clock::time_point since) {
-  return std::chrono::duration<double>(Clock::now() - since).count();
-}
-
-std::string ShellQuote(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
-
-bool Run(const std::string& command) {
-  return std::system((command + " >/dev/null 2>&1").c_str()) == 0;
-}
 
 // ---- the metric ------------------------------------------------------------------------
 
@@ -118,29 +106,6 @@ double Psnr(const Planes& a, const Planes& b) {
   return mse > 0 ? 10 * std::log10(255.0 * 255.0 / mse) : 99.0;
 }
 
-// cv::Mat (8/16-bit, grey / BGR / BGRA) -> Raster (0..255, alpha 0..1).
-sdvi::Raster FromMat(const cv::Mat& in) {
-  cv::Mat m;
-  if (in.depth() == CV_16U) in.convertTo(m, CV_8U, 1.0 / 257.0);
-  else m = in;
-  sdvi::Raster r(m.cols, m.rows, m.channels());
-  for (int y = 0; y < m.rows; ++y) {
-    const uint8_t* row = m.ptr<uint8_t>(y);
-    for (int x = 0; x < m.cols; ++x) {
-      const uint8_t* p = row + x * m.channels();
-      if (m.channels() <= 2) {
-        r.at(x, y, 0) = p[0];
-        if (m.channels() == 2) r.at(x, y, 1) = p[1] / 255.f;
-      } else {
-        r.at(x, y, 0) = p[2];
-        r.at(x, y, 1) = p[1];
-        r.at(x, y, 2) = p[0];
-        if (m.channels() == 4) r.at(x, y, 3) = p[3] / 255.f;
-      }
-    }
-  }
-  return r;
-}
 
 // The premultiplied colour (grey or BGR) and the alpha (grey) of planes as 8-bit mats.
 cv::Mat ColorMat(const Planes& p, bool grey) {
@@ -478,81 +443,7 @@ double BdRate(const std::vector<Point>& a, const std::vector<Point>& b) {
 
 // ---- plot ------------------------------------------------------------------------------
 
-struct Series {
-  std::string label;
-  cv::Scalar color;
-  std::vector<std::pair<double, double>> points;  // (bits per pixel, psnr)
-};
 
-void DrawPlot(const std::string& path, const std::string& title, std::vector<Series> series) {
-  const int w = 900, h = 600, left = 80, right = 30, top = 50, bottom = 70;
-  cv::Mat img(h, w, CV_8UC3, cv::Scalar(255, 255, 255));
-  double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
-  for (auto& s : series) {
-    std::sort(s.points.begin(), s.points.end());
-    for (auto [b, p] : s.points) {
-      if (!(b > 0) || !std::isfinite(p)) continue;
-      x0 = std::min(x0, std::log10(b));
-      x1 = std::max(x1, std::log10(b));
-      y0 = std::min(y0, p);
-      y1 = std::max(y1, p);
-    }
-  }
-  if (!(x1 > x0)) x1 = x0 + 1;
-  y0 = std::floor(y0 / 2) * 2;
-  y1 = std::ceil(y1 / 2) * 2;
-  if (!(y1 > y0)) y1 = y0 + 2;
-  x0 -= 0.05;
-  x1 += 0.05;
-  auto px = [&](double b) { return left + int((std::log10(b) - x0) / (x1 - x0) * (w - left - right)); };
-  auto py = [&](double p) { return h - bottom - int((p - y0) / (y1 - y0) * (h - top - bottom)); };
-  const cv::Scalar grid(225, 225, 225), ink(40, 40, 40);
-  const double ystep = (y1 - y0) > 30 ? 4 : 2;
-  for (double y = y0; y <= y1 + 1e-9; y += ystep) {
-    cv::line(img, {left, py(y)}, {w - right, py(y)}, grid);
-    cv::putText(img, std::to_string(int(y)), {left - 35, py(y) + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.45, ink);
-  }
-  for (int e = int(std::floor(x0)); e <= int(std::ceil(x1)); ++e) {
-    for (int m : {1, 2, 5}) {
-      const double b = m * std::pow(10.0, e);
-      if (std::log10(b) < x0 || std::log10(b) > x1) continue;
-      cv::line(img, {px(b), top}, {px(b), h - bottom}, grid);
-      std::ostringstream label;
-      label << b;
-      cv::putText(img, label.str(), {px(b) - 12, h - bottom + 20}, cv::FONT_HERSHEY_SIMPLEX, 0.45, ink);
-    }
-  }
-  cv::rectangle(img, {left, top}, {w - right, h - bottom}, ink);
-  cv::putText(img, title, {left, 22}, cv::FONT_HERSHEY_SIMPLEX, 0.6, ink, 2);
-  cv::putText(img, "bits per pixel (log scale)", {w / 2 - 90, h - 25}, cv::FONT_HERSHEY_SIMPLEX, 0.5, ink);
-  cv::putText(img, "PSNR dB", {10, top - 6}, cv::FONT_HERSHEY_SIMPLEX, 0.5, ink);
-  int legend_y = h - bottom - 20 - 22 * int(series.size());
-  for (const auto& s : series) {
-    cv::Point prev(-1, -1);
-    for (auto [b, p] : s.points) {
-      if (!(b > 0) || !std::isfinite(p)) continue;
-      cv::Point q(px(b), py(p));
-      if (prev.x >= 0) cv::line(img, prev, q, s.color, 2, cv::LINE_AA);
-      cv::circle(img, q, 4, s.color, cv::FILLED, cv::LINE_AA);
-      prev = q;
-    }
-    cv::line(img, {w - right - 200, legend_y - 5}, {w - right - 170, legend_y - 5}, s.color, 2);
-    cv::putText(img, s.label, {w - right - 160, legend_y}, cv::FONT_HERSHEY_SIMPLEX, 0.5, ink);
-    legend_y += 22;
-  }
-  cv::imwrite(path, img);
-}
-
-std::vector<fs::path> ListImages(const fs::path& dir) {
-  std::vector<fs::path> out;
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator(dir, ec)) {
-    const std::string ext = e.path().extension().string();
-    if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".tif" || ext == ".bmp") out.push_back(e.path());
-  }
-  std::sort(out.begin(), out.end());
-  return out;
-}
 
 double BestOf3(const std::function<bool()>& f) {
   double best = 1e300;
@@ -770,7 +661,7 @@ int main(int argc, char** argv) {
       std::fflush(stdout);
       if (plots && !sdvi_plot[0].empty()) {
         const std::string plot = (out / ("rd_" + kind + "_" + name + ".png")).string();
-        DrawPlot(plot, "bpp vs PSNR (premultiplied RGBA): " + name, series);
+        DrawRdPlot(plot, "bpp vs PSNR (premultiplied RGBA): " + name, "bits per pixel", series);
       }
     }
   }
