@@ -196,3 +196,45 @@ TEST_CASE("Invalid input never crashes the scan converter", "[render][errors]") 
   CHECK(MapPixels(t, v, Viewport{0, 5, 1, 1, 0, 0}).samples.empty());
   CHECK(RenderFineMesh(t, v, Viewport{4, 4, NAN, 1, 0, 0}).empty());
 }
+
+TEST_CASE("Row-band drawing: every pixel is drawn by the lowest-index triangle MapPixels finds there",
+          "[render][fold][bands]") {
+  // Overlapping triangles of every size (sub-pixel to taller than many row bands), some
+  // off-screen, each of one colour that names its index; drawn in row bands (the pixels'
+  // cache) they must give exactly the owner MapPixels finds by scanning all triangles.
+  Lcg rng(91);
+  auto uniform = [&rng](double lo, double hi) { return lo + (hi - lo) * rng.Next(); };
+  const Viewport vp = Viewport::Identity(700, 300);
+  std::vector<Vertex> v;
+  std::vector<Triangle> tris;
+  for (uint32_t t = 0; t < 3000; ++t) {
+    const double cx = uniform(-50, 750), cy = uniform(-50, 350);
+    const double size = t % 10 == 0 ? uniform(20, 200) : uniform(0.3, 12);
+    const float r = float(t % 256), g = float(t / 256), b = 7;
+    for (int k = 0; k < 3; ++k)
+      v.push_back({float(cx + size * uniform(-1, 1)), float(cy + size * uniform(-1, 1)), r, g, b});
+    tris.push_back({{3 * t, 3 * t + 1, 3 * t + 2}});
+  }
+  const CoverageMap m = MapPixels(tris, v, vp);
+  std::vector<uint32_t> owner(size_t(vp.width) * vp.height, UINT32_MAX);
+  for (const PixelSample& s : m.samples) owner[s.pixel] = s.triangle;
+  for (int threads : {1, 2, 5}) {
+    const Raster8 r = RenderFineMesh8(tris, v, vp, nullptr, threads);
+    const Raster f = RenderFineMesh(tris, v, vp, nullptr, threads);
+    REQUIRE(r.data.size() == owner.size() * 4);
+    size_t wrong = 0;
+    for (size_t p = 0; p < owner.size(); ++p) {
+      const uint32_t t = owner[p];
+      const bool ok8 = t == UINT32_MAX ? r.data[4 * p + 3] == 0
+                                       : r.data[4 * p] == t % 256 && r.data[4 * p + 1] == t / 256 &&
+                                             r.data[4 * p + 2] == 7 && r.data[4 * p + 3] == 255;
+      const bool okf = t == UINT32_MAX ? f.data[4 * p + 3] == 0.0f
+                                       : std::lround(f.data[4 * p]) == long(t % 256) &&
+                                             std::lround(f.data[4 * p + 1]) == long(t / 256) && f.data[4 * p + 3] == 1.0f;
+      wrong += !ok8 || !okf;
+    }
+    INFO(threads << " threads");
+    CHECK(wrong == 0);
+  }
+  CHECK(m.samples.size() > owner.size() / 2);  // the test covers most of the output
+}

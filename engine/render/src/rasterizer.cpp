@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <thread>
 #include <vector>
 
 #if defined(__linux__)
@@ -41,6 +42,61 @@ std::vector<FixedPoint> ToFixedAll(const std::vector<Vertex>& fine, const Viewpo
     for (size_t i = s0; i < s1; ++i) out[i] = ToFixed(fine[i], vp);
   });
   return out;
+}
+
+RowBandBins BinTrianglesByRowBand(const std::vector<Triangle>& triangles, const std::vector<FixedPoint>& pts,
+                                  int width, int height, int band_rows, int threads) {
+  RowBandBins bins;
+  bins.band_rows = std::max(1, band_rows);
+  const int bands = height > 0 ? (height + bins.band_rows - 1) / bins.band_rows : 0;
+  const size_t count = triangles.size();
+  // Chunks of triangles counted and filled in parallel; band b lists chunk 0's triangles,
+  // then chunk 1's, ..., so every list is in increasing index whatever the chunk count.
+  int chunks = threads > 0 ? threads : int(std::thread::hardware_concurrency());
+  chunks = count < 65536 ? 1 : std::clamp(chunks, 1, 16);
+  constexpr uint32_t kNoBand = std::numeric_limits<uint32_t>::max();
+  std::vector<uint32_t> range(count, kNoBand);  // first band << 16 | last band (bands <= 2^16)
+  std::vector<std::vector<uint32_t>> start(size_t(chunks), std::vector<uint32_t>(size_t(bands) + 1, 0));
+  const uint32_t nv = uint32_t(pts.size());
+  auto in_parallel = [&](auto&& body) {
+    std::vector<std::thread> pool;
+    for (int c = 1; c < chunks; ++c) pool.emplace_back([&body, c] { body(c); });
+    body(0);
+    for (auto& t : pool) t.join();
+  };
+  in_parallel([&](int c) {
+    std::vector<uint32_t>& n = start[size_t(c)];
+    TriangleSetup s;
+    for (size_t t = count * size_t(c) / size_t(chunks), end = count * size_t(c + 1) / size_t(chunks); t < end; ++t) {
+      const auto& v = triangles[t].v;
+      if (v[0] >= nv || v[1] >= nv || v[2] >= nv) continue;
+      if (!SetupTriangle(pts[v[0]], pts[v[1]], pts[v[2]], width, height, s)) continue;
+      const uint32_t b0 = uint32_t(s.j0 / bins.band_rows), b1 = uint32_t(s.j1 / bins.band_rows);
+      range[t] = b0 << 16 | b1;
+      for (uint32_t b = b0; b <= b1; ++b) ++n[b];
+    }
+  });
+  // start[c][b]: where chunk c's triangles of band b begin.
+  bins.offsets.assign(size_t(bands) + 1, 0);
+  uint32_t total = 0;
+  for (int b = 0; b < bands; ++b) {
+    bins.offsets[size_t(b)] = total;
+    for (int c = 0; c < chunks; ++c) {
+      const uint32_t n = start[size_t(c)][size_t(b)];
+      start[size_t(c)][size_t(b)] = total;
+      total += n;
+    }
+  }
+  bins.offsets[size_t(bands)] = total;
+  bins.triangles.resize(total);
+  in_parallel([&](int c) {
+    std::vector<uint32_t>& next = start[size_t(c)];
+    for (size_t t = count * size_t(c) / size_t(chunks), end = count * size_t(c + 1) / size_t(chunks); t < end; ++t) {
+      if (range[t] == kNoBand) continue;
+      for (uint32_t b = range[t] >> 16; b <= (range[t] & 0xffffu); ++b) bins.triangles[next[b]++] = uint32_t(t);
+    }
+  });
+  return bins;
 }
 
 namespace {
@@ -208,16 +264,16 @@ template <typename Pixels>
 void DrawFineMesh(const std::vector<Triangle>& triangles, const std::vector<Vertex>& fine, const Viewport& viewport,
                   const std::vector<Edge>* boundary, int threads, typename Pixels::Sample* data) {
   const std::vector<FixedPoint> pts = ToFixedAll(fine, viewport, threads);
-  const uint32_t nv = uint32_t(fine.size());
   const int width = viewport.width;
-  ForEachRowBand(viewport.height, threads, [&](int, int row0, int row1) {
+  const RowBandBins bins = BinTrianglesByRowBand(triangles, pts, width, viewport.height,
+                                                 BandRowsFor(width, 4 * sizeof(typename Pixels::Sample)), threads);
+  ForEachBand(bins.bands(), threads, viewport.height, [&](int band) {
+    const int row0 = band * bins.band_rows, row1 = std::min(viewport.height, row0 + bins.band_rows);
     TriangleSetup s;
-    for (uint32_t t = 0; t < triangles.size(); ++t) {
+    for (uint32_t k = bins.offsets[size_t(band)]; k < bins.offsets[size_t(band) + 1]; ++k) {
+      const uint32_t t = bins.triangles[k];
       const auto& v = triangles[t].v;
-      if (v[0] >= nv || v[1] >= nv || v[2] >= nv) continue;
-      const FixedPoint &a = pts[v[0]], &b = pts[v[1]], &c = pts[v[2]];
-      if (!a.valid() || !b.valid() || !c.valid() || !MayTouchRows(a, b, c, row0, row1)) continue;
-      if (!SetupTriangle(a, b, c, width, viewport.height, s)) continue;
+      if (!SetupTriangle(pts[v[0]], pts[v[1]], pts[v[2]], width, viewport.height, s)) continue;  // binned: true
       const double inv_area = 1.0 / double(s.area);
       const Vertex* cv[3] = {&fine[v[s.slot[0]]], &fine[v[s.slot[1]]], &fine[v[s.slot[2]]]};
       // Colour is affine in the pixel index along a row: exact weights at the span start,

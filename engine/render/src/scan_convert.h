@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <thread>
@@ -167,6 +168,50 @@ inline void ForEachRowBand(int height, int threads, Body&& body) {
     const int r0 = int(int64_t(height) * b / n), r1 = int(int64_t(height) * (b + 1) / n);
     pool.emplace_back([&body, b, r0, r1] { body(b, r0, r1); });
   }
+  for (auto& t : pool) t.join();
+}
+
+// Fine triangles sorted into bands of output rows, so that a band's pixels stay in cache
+// while its triangles are drawn (the fine triangles of a vectorized mesh come in the
+// order of their control triangles, which is not spatial: drawn in that order, nearly
+// every span of a 4096-pixel-wide output misses the cache). Band b holds rows
+// [b * band_rows, min(height, (b + 1) * band_rows)) and lists, in increasing index, every
+// triangle whose candidate pixel centres (SetupTriangle's box) meet those rows.
+struct RowBandBins {
+  int band_rows = 1;
+  std::vector<uint32_t> offsets{0};  // bands + 1 entries; band b = [offsets[b], offsets[b + 1])
+  std::vector<uint32_t> triangles;
+  int bands() const { return int(offsets.size()) - 1; }
+};
+
+// The bins of triangles (vertex positions pts) for a width x height output.
+RowBandBins BinTrianglesByRowBand(const std::vector<Triangle>& triangles, const std::vector<FixedPoint>& pts,
+                                  int width, int height, int band_rows, int threads);
+
+// Rows a band holds so that its pixels (bytes_per_pixel each) take about 256 KiB, a
+// quarter of a typical L2 cache, and at least 4 rows.
+inline int BandRowsFor(int width, size_t bytes_per_pixel) {
+  const size_t row_bytes = std::max<size_t>(1, size_t(width) * bytes_per_pixel);
+  return int(std::clamp<size_t>((size_t(1) << 18) / row_bytes, 4, 256));
+}
+
+// Runs body(band) for every band in [0, bands) on WorkerCount(threads, rows) threads, each
+// taking the next undone band: a band is drawn by one thread, in one order, whatever
+// their number.
+template <typename Body>
+inline void ForEachBand(int bands, int threads, int rows, Body&& body) {
+  const int n = std::min(WorkerCount(threads, rows), std::max(1, bands));
+  if (n == 1) {
+    for (int b = 0; b < bands; ++b) body(b);
+    return;
+  }
+  std::atomic<int> next{0};
+  auto work = [&] {
+    for (int b = next.fetch_add(1); b < bands; b = next.fetch_add(1)) body(b);
+  };
+  std::vector<std::thread> pool;
+  for (int k = 1; k < n; ++k) pool.emplace_back(work);
+  work();
   for (auto& t : pool) t.join();
 }
 
