@@ -8,11 +8,8 @@
 #include <thread>
 #include <vector>
 
-#if defined(__linux__)
-#include <sys/mman.h>
-#endif
-
 #include "scan_convert.h"
+#include "sdvi/large_buffers.h"
 #include "sdvi/render.h"
 
 namespace sdvi {
@@ -22,13 +19,7 @@ template <typename T>
 void AssignZeroedLarge(std::vector<T>& v, size_t n) {
   v.clear();
   v.shrink_to_fit();
-  v.reserve(n);
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-  constexpr uintptr_t kHuge = uintptr_t(1) << 21;
-  const uintptr_t begin = (reinterpret_cast<uintptr_t>(v.data()) + kHuge - 1) & ~(kHuge - 1);
-  const uintptr_t end = reinterpret_cast<uintptr_t>(v.data() + n) & ~(kHuge - 1);
-  if (n * sizeof(T) >= 4 * kHuge && end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
-#endif
+  internal::ReserveLarge(v, n);
   v.resize(n);  // value-initialised: zero
 }
 template void AssignZeroedLarge<float>(std::vector<float>&, size_t);
@@ -55,7 +46,9 @@ RowBandBins BinTrianglesByRowBand(const std::vector<Triangle>& triangles, const 
   int chunks = threads > 0 ? threads : int(std::thread::hardware_concurrency());
   chunks = count < 65536 ? 1 : std::clamp(chunks, 1, 16);
   constexpr uint32_t kNoBand = std::numeric_limits<uint32_t>::max();
-  std::vector<uint32_t> range(count, kNoBand);  // first band << 16 | last band (bands <= 2^16)
+  std::vector<uint32_t> range;  // first band << 16 | last band (bands <= 2^16)
+  internal::ReserveLarge(range, count);
+  range.assign(count, kNoBand);
   std::vector<std::vector<uint32_t>> start(size_t(chunks), std::vector<uint32_t>(size_t(bands) + 1, 0));
   const uint32_t nv = uint32_t(pts.size());
   auto in_parallel = [&](auto&& body) {
@@ -88,6 +81,7 @@ RowBandBins BinTrianglesByRowBand(const std::vector<Triangle>& triangles, const 
     }
   }
   bins.offsets[size_t(bands)] = total;
+  internal::ReserveLarge(bins.triangles, total);
   bins.triangles.resize(total);
   in_parallel([&](int c) {
     std::vector<uint32_t>& next = start[size_t(c)];

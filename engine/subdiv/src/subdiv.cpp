@@ -7,7 +7,7 @@
 #include <string>
 #include <thread>
 
-#include "large_buffers.h"
+#include "sdvi/large_buffers.h"
 #include "sdvi/tagged_mesh.h"
 
 namespace sdvi {
@@ -112,6 +112,7 @@ FineSelection SelectOutput(const RefinementPlan& plan, const TaggedMesh& mesh, b
   for (size_t f = 0; f < nt; ++f) out.parent_triangle[f] = parent(f);
   if (plan.keep.empty()) {
     out.triangles = std::move(triangles);
+    internal::ReserveLarge(out.vertices, tags.size());
     out.vertices.resize(tags.size());
     for (uint32_t v = 0; v < tags.size(); ++v) out.vertices[v] = v;
     out.vertex_tags = std::move(tags);

@@ -5,7 +5,7 @@
 #include <string>
 #include <utility>
 
-#include "large_buffers.h"
+#include "sdvi/large_buffers.h"
 #include "sdvi/mesh_rules.h"
 #include "sdvi/subdiv_rules.h"
 
@@ -333,7 +333,7 @@ TaggedMesh TaggedMesh::Refine() const {
   // Neighbours. A vertex point's are the edge points of its edges (same order); an edge
   // point's are the vertex points of its ends, then for each of its triangles the edge
   // points of the triangle's two other edges.
-  child.neighbour_offsets_.reserve(size_t{child.num_vertices_} + 1);
+  internal::ReserveLarge(child.neighbour_offsets_, size_t{child.num_vertices_} + 1);
   internal::ReserveLarge(child.neighbour_vertices_, 2 * child_edges);
   internal::ReserveLarge(child.neighbour_edges_, 2 * child_edges);
   child.neighbour_offsets_.push_back(0);

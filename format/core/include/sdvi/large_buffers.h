@@ -26,13 +26,22 @@ inline void AdviseHugePages([[maybe_unused]] const void* data, [[maybe_unused]] 
 #endif
 }
 
-// v.reserve(n), with the huge-page hint when the new storage is large and untouched.
+// Arrays of at least this many bytes are reserved with the huge-page hint.
+inline constexpr size_t kLargeBufferBytes = size_t{1} << 20;
+
+// v.reserve(n), with the huge-page hint when the new storage is large and untouched. The
+// storage is reserved up to 2 MiB longer, so that the huge page holding the array's end lies
+// inside it: only the part before the first 2 MiB boundary (where malloc placed the block)
+// is faulted in 4 KiB pages.
 template <typename T, typename A>
 void ReserveLarge(std::vector<T, A>& v, size_t n) {
   if (n <= v.capacity()) return;
-  const bool fresh = v.empty();
-  v.reserve(n);
-  if (fresh && n * sizeof(T) >= (size_t{8} << 20)) AdviseHugePages(v.data(), n * sizeof(T));
+  if (!v.empty() || n * sizeof(T) < kLargeBufferBytes) {
+    v.reserve(n);
+    return;
+  }
+  v.reserve(n + ((size_t{2} << 20) + sizeof(T) - 1) / sizeof(T));
+  AdviseHugePages(v.data(), v.capacity() * sizeof(T));
 }
 
 }  // namespace sdvi::internal
