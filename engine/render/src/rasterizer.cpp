@@ -263,6 +263,11 @@ void DrawFineMesh(const std::vector<Triangle>& triangles, const std::vector<Vert
                                                  BandRowsFor(width, 4 * sizeof(typename Pixels::Sample)), threads);
   ForEachBand(bins.bands(), threads, viewport.height, [&](int band) {
     const int row0 = band * bins.band_rows, row1 = std::min(viewport.height, row0 + bins.band_rows);
+    // The band's pixels brought into cache in address order first: the triangles then
+    // touch them in no order, and a miss each 16 pixels was most of the drawing time.
+    const auto* band_begin = reinterpret_cast<const char*>(data + size_t(row0) * width * 4);
+    const auto* band_end = reinterpret_cast<const char*>(data + size_t(row1) * width * 4);
+    for (const char* p = band_begin; p < band_end; p += 64) __builtin_prefetch(p, 1);
     TriangleSetup s;
     for (uint32_t k = bins.offsets[size_t(band)]; k < bins.offsets[size_t(band) + 1]; ++k) {
       const uint32_t t = bins.triangles[k];
