@@ -1,20 +1,17 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Raster image files through OpenImageIO (raster_io.h); OpenImageIO errors stop here.
-//
-// Why OpenImageIO and not OpenCV's imgcodecs (measured by build/bench/raster/bench_raster_io,
-// spec/RASTER_INPUT.md): OpenCV 4.6 applies EXIF orientation only when it may also drop
-// alpha and 16-bit samples (any flag but IMREAD_UNCHANGED), never exposes an ICC profile,
-// reads no GIF, reads EXR only behind an environment switch, and writes no sRGB chunk;
-// OpenImageIO does all of these from memory, with the same libpng/libjpeg-turbo decoders
-// (identical samples) and comparable decode time.
+// Raster image files (raster_io.h): the checks, ICC conversion and channel rules here; the
+// decoders and the PNG encoder in OpenImageIO, through the module libsdvi_raster_oiio.so
+// (oiio_module.h), opened on first use (spec/RASTER_INPUT.md, "Loading").
 #include "sdvi/raster_io.h"
 
+#include <dlfcn.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <memory>
 #include <mutex>
@@ -22,26 +19,62 @@
 #include <string>
 #include <vector>
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
-#include <OpenImageIO/imageio.h>
-
 #include "icc_profile.h"
+#include "oiio_module.h"
 #include "sdvi/file_util.h"
 
 namespace sdvi {
 namespace {
 
+using raster_internal::OiioModule;
+using raster_internal::kOiioModuleAbi;
+
+constexpr const char* kOiioModuleFile = "libsdvi_raster_oiio.so";
+
+// Opens the module: $SDVI_MODULE_DIR, then the install layout next to the binary that holds
+// this code (bin/../lib/sdvi), then the build tree's copy, then the configured install
+// directory. Null with *why set when none opens or none matches this build.
+const OiioModule* OpenOiioModule(std::string* why) {
+  std::vector<std::string> candidates;
+  if (const char* dir = std::getenv("SDVI_MODULE_DIR"); dir && *dir)
+    candidates.push_back(std::string(dir) + "/" + kOiioModuleFile);
+  Dl_info self;
+  if (::dladdr(reinterpret_cast<void*>(&OpenOiioModule), &self) && self.dli_fname) {
+    const std::string binary = self.dli_fname;
+    const size_t slash = binary.rfind('/');
+    if (slash != std::string::npos)
+      candidates.push_back(binary.substr(0, slash + 1) + SDVI_MODULE_DIR_FROM_BIN + "/" + kOiioModuleFile);
+  }
+  candidates.push_back(SDVI_OIIO_MODULE_BUILD_PATH);
+  candidates.push_back(std::string(SDVI_MODULE_INSTALL_DIR) + "/" + kOiioModuleFile);
+  std::string tried;
+  for (const std::string& path : candidates) {
+    if (::access(path.c_str(), R_OK) != 0) continue;
+    void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    const char* error = handle ? nullptr : ::dlerror();
+    auto entry = handle ? reinterpret_cast<const OiioModule* (*)()>(::dlsym(handle, "sdvi_raster_oiio_module")) : nullptr;
+    const OiioModule* module = entry ? entry() : nullptr;
+    if (module && module->abi == kOiioModuleAbi && module->sizeof_decoded == sizeof(raster_internal::OiioDecoded))
+      return module;  // stays open for the life of the process
+    tried += (tried.empty() ? "" : "; ") + path + (error ? std::string(": ") + error : ": built for another sdvi");
+    if (handle) ::dlclose(handle);
+  }
+  *why = "cannot load " + std::string(kOiioModuleFile) + " (" +
+         (tried.empty() ? "not found; set SDVI_MODULE_DIR to the directory that holds it" : tried) + ")";
+  return nullptr;
+}
+
+// The module, opened once per process.
+StatusOr<const OiioModule*> Oiio(StatusCode code, const std::string& name) {
+  static std::string why;
+  static const OiioModule* const module = OpenOiioModule(&why);
+  if (!module) return Status(code, name + ": raster support is not available: " + why);
+  return module;
+}
+
 constexpr uint64_t kMaxPixels = uint64_t(1) << 28;  // 16384 x 16384
 
 std::string SizeText(int64_t w, int64_t h) { return std::to_string(w) + "x" + std::to_string(h); }
-
-// sRGB transfer function (IEC 61966-2-1): linear 0..1 -> 0..255.
-float LinearToSrgb255(double linear) {
-  const double v = linear <= 0.0031308 ? linear * 12.92 : 1.055 * std::pow(linear, 1 / 2.4) - 0.055;
-  return float(v * 255.0);
-}
 
 bool IsPng(const std::vector<uint8_t>& b) {
   static const uint8_t kSig[8] = {0x89, 'P', 'N', 'G', 0x0d, 0x0a, 0x1a, 0x0a};
@@ -62,120 +95,6 @@ Status CheckPngHeader(const std::vector<uint8_t>& bytes, const std::string& name
   return Status::Ok();
 }
 
-// Which file channels become the raster's: colour (1 or 3) then alpha (or -1).
-struct ChannelPick {
-  std::vector<int> colour;
-  int alpha = -1;
-};
-StatusOr<ChannelPick> PickChannels(const OIIO::ImageSpec& spec, const std::string& name) {
-  auto find = [&](const char* n) {
-    for (int c = 0; c < spec.nchannels; ++c)
-      if (spec.channelnames.size() > size_t(c) && spec.channelnames[c] == n) return c;
-    return -1;
-  };
-  ChannelPick pick;
-  if (spec.nchannels <= 4) {
-    // The decoder's alpha channel when it names a valid one (OpenImageIO's GIF reader does
-    // not), else the last of 2 or 4.
-    const bool named = spec.alpha_channel >= 0 && spec.alpha_channel < spec.nchannels;
-    pick.alpha = named ? spec.alpha_channel : (spec.nchannels == 2 || spec.nchannels == 4 ? spec.nchannels - 1 : -1);
-    const int colours = spec.nchannels - (pick.alpha >= 0 ? 1 : 0);
-    if (colours != 1 && colours != 3)
-      return Status(StatusCode::kUnsupportedFormat, name + ": " + std::to_string(spec.nchannels) +
-                                                        " channels with " + std::to_string(colours) + " colour channels");
-    for (int c = 0; c < spec.nchannels; ++c)
-      if (c != pick.alpha) pick.colour.push_back(c);
-    return pick;
-  }
-  // More than four channels (EXR layers, an `error` channel): R, G, B or Y, and A, by name.
-  const int r = find("R"), g = find("G"), b = find("B"), y = find("Y");
-  if (r >= 0 && g >= 0 && b >= 0)
-    pick.colour = {r, g, b};
-  else if (y >= 0)
-    pick.colour = {y};
-  else
-    return Status(StatusCode::kUnsupportedFormat,
-                  name + ": " + std::to_string(spec.nchannels) + " channels and none named R, G, B or Y");
-  pick.alpha = find("A");
-  return pick;
-}
-
-// Decodes the first subimage of an opened input into the raster's layout and scale.
-StatusOr<Raster> ReadPixels(OIIO::ImageInput& in, const std::string& name, RasterSource& source) {
-  const OIIO::ImageSpec spec = in.spec();
-  SDVI_ASSIGN_OR_RETURN(ChannelPick pick, PickChannels(spec, name));
-  const OIIO::TypeDesc type = spec.format;
-  source.file_channels = spec.nchannels;
-  source.bits = int(type.size() * 8);
-  source.linear = type.is_floating_point();
-  // Samples as 8-bit, 16-bit or float, whichever holds the file's exactly.
-  const OIIO::TypeDesc read_type = type.basetype == OIIO::TypeDesc::UINT8 || type.basetype == OIIO::TypeDesc::INT8
-                                       ? OIIO::TypeDesc::UINT8
-                                   : source.linear ? OIIO::TypeDesc::FLOAT
-                                                   : OIIO::TypeDesc::UINT16;
-  const size_t pixels = size_t(spec.width) * spec.height, nch = size_t(spec.nchannels);
-  std::vector<uint8_t> buffer(pixels * nch * read_type.size());
-  // A decoder that met missing or damaged data says so (has_error) even when it returns
-  // what it could decode: that is an error, never a partial image.
-  const bool read = in.read_image(0, 0, 0, spec.nchannels, read_type, buffer.data());
-  if (!read || in.has_error()) {
-    std::string why = in.geterror();
-    for (char& c : why)
-      if (c == '\n') c = ' ';
-    const bool ended = why.find("Premature end") != std::string::npos || why.find("premature end") != std::string::npos ||
-                       why.find("Read Error") != std::string::npos || why.find("Not enough") != std::string::npos ||
-                       why.find("end of file") != std::string::npos || why.find("truncated") != std::string::npos;
-    return Status(ended ? StatusCode::kTruncated : StatusCode::kDecodeFailed,
-                  name + (ended ? ": the data ends early: " : ": cannot decode the pixels: ") +
-                      (why.empty() ? std::string("the decoder failed") : why));
-  }
-  const int colours = int(pick.colour.size());
-  Raster out(spec.width, spec.height, colours + (pick.alpha >= 0 ? 1 : 0));
-  // Straight alpha unless the file stores it premultiplied (OpenEXR's convention).
-  const bool premultiplied = pick.alpha >= 0 && spec.get_int_attribute("oiio:UnassociatedAlpha", 0) == 0 &&
-                             source.linear;
-  for (size_t p = 0; p < pixels; ++p) {
-    float* d = &out.data[p * out.channels];
-    if (read_type == OIIO::TypeDesc::UINT8) {
-      const uint8_t* s = &buffer[p * nch];
-      for (int c = 0; c < colours; ++c) d[c] = float(s[pick.colour[c]]);
-      if (pick.alpha >= 0) d[colours] = float(s[pick.alpha] * (1.0 / 255));
-    } else if (read_type == OIIO::TypeDesc::UINT16) {
-      const uint16_t* s = reinterpret_cast<const uint16_t*>(buffer.data()) + p * nch;
-      for (int c = 0; c < colours; ++c) d[c] = float(s[pick.colour[c]] * (255.0 / 65535.0));
-      if (pick.alpha >= 0) d[colours] = float(s[pick.alpha] * (1.0 / 65535));
-    } else {
-      const float* s = reinterpret_cast<const float*>(buffer.data()) + p * nch;
-      double a = pick.alpha >= 0 ? double(s[pick.alpha]) : 1.0;
-      a = std::isfinite(a) ? std::clamp(a, 0.0, 1.0) : 0.0;
-      for (int c = 0; c < colours; ++c) {
-        double v = s[pick.colour[c]];
-        if (premultiplied) v = a > 0 ? v / a : 0.0;
-        d[c] = LinearToSrgb255(std::isfinite(v) ? std::clamp(v, 0.0, 1.0) : 0.0);
-      }
-      if (pick.alpha >= 0) d[colours] = float(a);
-    }
-  }
-  return out;
-}
-
-// Applies the EXIF/TIFF orientation (1..8) so that the raster is upright.
-StatusOr<Raster> Reorient(Raster raster, int orientation, const std::string& name) {
-  if (orientation <= 1 || orientation > 8) return raster;
-  OIIO::ImageSpec spec(raster.width, raster.height, raster.channels, OIIO::TypeDesc::FLOAT);
-  spec.attribute("Orientation", orientation);
-  OIIO::ImageBuf src(spec, raster.data.data());
-  OIIO::ImageBuf upright;
-  if (!OIIO::ImageBufAlgo::reorient(upright, src))
-    return Status(StatusCode::kDecodeFailed, name + ": cannot apply orientation " + std::to_string(orientation) +
-                                                 ": " + upright.geterror());
-  const OIIO::ImageSpec& u = upright.spec();
-  Raster out(u.width, u.height, raster.channels);
-  if (!upright.get_pixels(OIIO::ROI(u.x, u.x + u.width, u.y, u.y + u.height), OIIO::TypeDesc::FLOAT, out.data.data()))
-    return Status(StatusCode::kDecodeFailed, name + ": cannot apply orientation: " + upright.geterror());
-  return out;
-}
-
 // GIF decoders always give RGBA; alpha stays only where some pixel is transparent.
 Raster DropAlphaOfOpaqueGif(Raster raster, const std::string& format) {
   if (format != "gif" || !raster.has_alpha()) return raster;
@@ -189,11 +108,9 @@ Raster DropAlphaOfOpaqueGif(Raster raster, const std::string& format) {
 }
 
 // The embedded ICC profile (if any) converted to sRGB; an unusable one becomes a warning.
-void ApplyIccProfile(const OIIO::ImageSpec& spec, Raster& raster, const std::string& name, RasterSource& source) {
-  const OIIO::ParamValue* icc = spec.find_attribute("ICCProfile");
-  if (!icc || icc->datasize() == 0) return;
-  const auto* bytes = static_cast<const uint8_t*>(icc->data());
-  const std::vector<uint8_t> profile(bytes, bytes + icc->datasize());
+void ApplyIccProfile(const std::vector<uint8_t>& profile, Raster& raster, const std::string& name,
+                     RasterSource& source) {
+  if (profile.empty()) return;
   if (source.linear) {
     source.warnings.push_back(name + ": the ICC profile of a float image is ignored (samples taken as linear sRGB)");
     return;
@@ -278,40 +195,26 @@ StatusOr<Raster> DecodeRaster(const std::vector<uint8_t>& bytes, const std::stri
 
 static StatusOr<Raster> DecodeCaptured(const std::vector<uint8_t>& bytes, const std::string& name,
                                        const RasterLimits& limits, RasterSource* source_out) {
-  RasterSource source;
   try {
-    // The bytes are read through an IOProxy; with a config, OpenImageIO 2.4 takes the proxy
-    // from the config's "oiio:ioproxy" (a pointer to the proxy pointer) as well.
-    OIIO::Filesystem::IOMemReader reader(bytes.data(), bytes.size());
-    OIIO::Filesystem::IOProxy* proxy = &reader;
-    OIIO::ImageSpec config;
-    config.attribute("oiio:UnassociatedAlpha", 1);  // keep PNG/TIFF alpha straight, as stored
-    config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
-    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(name, &config, &reader);
-    if (!in) {
-      const std::string why = OIIO::geterror();
-      return Status(StatusCode::kDecodeFailed, name + ": not an image sdvi can decode" +
-                                                   (why.empty() ? std::string() : " (" + why + ")"));
+    SDVI_ASSIGN_OR_RETURN(const OiioModule* oiio, Oiio(StatusCode::kDecodeFailed, name));
+    SDVI_ASSIGN_OR_RETURN(raster_internal::OiioDecoded decoded,
+                          oiio->decode(bytes, name, std::min(kMaxPixels, limits.max_pixels)));
+    RasterSource source;
+    source.format = decoded.format;
+    source.file_channels = decoded.file_channels;
+    source.bits = decoded.bits;
+    source.linear = decoded.linear;
+    source.orientation = decoded.orientation;
+    Raster raster = std::move(decoded.raster);
+    ApplyIccProfile(decoded.icc_profile, raster, name, source);
+    if (source.orientation != 1) {
+      SDVI_ASSIGN_OR_RETURN(raster, oiio->reorient(raster, source.orientation, name));
     }
-    source.format = in->format_name();
-    const OIIO::ImageSpec& spec = in->spec();
-    if (spec.width <= 0 || spec.height <= 0)
-      return Status(StatusCode::kEmptyInput, name + ": the header says " + SizeText(spec.width, spec.height));
-    if (uint64_t(spec.width) * uint64_t(spec.height) > std::min(kMaxPixels, limits.max_pixels) || spec.depth > 1)
-      return Status(StatusCode::kLimitExceeded,
-                    name + ": " + SizeText(spec.width, spec.height) + " pixels is over the limit of " +
-                        std::to_string(std::min(kMaxPixels, limits.max_pixels)));
-    SDVI_ASSIGN_OR_RETURN(Raster raster, ReadPixels(*in, name, source));
-    ApplyIccProfile(spec, raster, name, source);
-    source.orientation = std::clamp(spec.get_int_attribute("Orientation", 1), 1, 8);
-    SDVI_ASSIGN_OR_RETURN(raster, Reorient(std::move(raster), source.orientation, name));
     raster = DropAlphaOfOpaqueGif(std::move(raster), source.format);
     if (source_out) *source_out = std::move(source);
     return raster;
   } catch (const std::bad_alloc&) {
     return Status(StatusCode::kLimitExceeded, name + ": out of memory while decoding the image");
-  } catch (const std::exception& e) {
-    return Status(StatusCode::kDecodeFailed, name + ": cannot decode the image: " + e.what());
   }
 }
 
@@ -322,31 +225,15 @@ StatusOr<Raster> LoadRaster(const std::string& path, RasterSource* source) {
 
 namespace {
 
+// zlib level 1, OpenCV's imwrite default (libpng's is 6): on a 4096 x 4096 render 3.3x
+// faster to encode (1.0 s, not 3.2 s) for a file 35% larger (7.7 MB, not 5.7 MB).
 constexpr int kPngCompressionLevel = 1;
 
 // The PNG of samples (8- or 16-bit, interleaved, channels as the raster has them).
 StatusOr<std::vector<uint8_t>> EncodePngSamples(int width, int height, int ch, bool has_alpha, int bits,
                                                 const void* data, const std::string& name) {
-  const OIIO::TypeDesc type = bits == 8 ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::UINT16;
-  OIIO::ImageSpec spec(width, height, ch, type);
-  spec.alpha_channel = has_alpha ? ch - 1 : -1;
-  spec.attribute("oiio:ColorSpace", "sRGB");  // -> sRGB, gAMA and cHRM chunks
-  spec.attribute("oiio:UnassociatedAlpha", 1);  // the samples are straight: write them as they are
-  // zlib level 1, OpenCV's imwrite default (libpng's is 6): on a 4096 x 4096 render 3.3x
-  // faster to encode (1.0 s, not 3.2 s) for a file 35% larger (7.7 MB, not 5.7 MB).
-  spec.attribute("png:compressionLevel", kPngCompressionLevel);
-  std::vector<uint8_t> encoded;
-  try {
-    OIIO::Filesystem::IOVecOutput writer(encoded);
-    std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create("png");
-    if (!out) return Status(StatusCode::kEncodeFailed, name + ": no PNG writer: " + OIIO::geterror());
-    out->set_ioproxy(&writer);
-    if (!out->open("out.png", spec) || !out->write_image(type, data) || !out->close())
-      return Status(StatusCode::kEncodeFailed, name + ": PNG encoding failed: " + out->geterror());
-  } catch (const std::exception& e) {
-    return Status(StatusCode::kEncodeFailed, name + ": PNG encoding failed: " + e.what());
-  }
-  return encoded;
+  SDVI_ASSIGN_OR_RETURN(const OiioModule* oiio, Oiio(StatusCode::kEncodeFailed, name));
+  return oiio->encode_png(width, height, ch, has_alpha, bits, data, kPngCompressionLevel, name);
 }
 
 // Which channels an output needs (see WithNeededChannels): alpha unless every pixel is
