@@ -204,11 +204,11 @@ TEST_CASE("Row-band drawing: every pixel is drawn by the lowest-index triangle M
   // cache) they must give exactly the owner MapPixels finds by scanning all triangles.
   Lcg rng(91);
   auto uniform = [&rng](double lo, double hi) { return lo + (hi - lo) * rng.Next(); };
-  const Viewport vp = Viewport::Identity(700, 300);
+  const Viewport vp = Viewport::Identity(700, 900);
   std::vector<Vertex> v;
   std::vector<Triangle> tris;
-  for (uint32_t t = 0; t < 3000; ++t) {
-    const double cx = uniform(-50, 750), cy = uniform(-50, 350);
+  for (uint32_t t = 0; t < 9000; ++t) {
+    const double cx = uniform(-50, 750), cy = uniform(-50, 950);
     const double size = t % 10 == 0 ? uniform(20, 200) : uniform(0.3, 12);
     const float r = float(t % 256), g = float(t / 256), b = 7;
     for (int k = 0; k < 3; ++k)

@@ -188,11 +188,12 @@ struct RowBandBins {
 RowBandBins BinTrianglesByRowBand(const std::vector<Triangle>& triangles, const std::vector<FixedPoint>& pts,
                                   int width, int height, int band_rows, int threads);
 
-// Rows a band holds so that its pixels (bytes_per_pixel each) take about 256 KiB, a
-// quarter of a typical L2 cache, and at least 4 rows.
+// Rows a band holds so that its pixels (bytes_per_pixel each) take about 512 KiB, half
+// of a typical L2 cache, and at least 4 rows (measured on x8 renders: 32 rows of 16 KiB a few
+// per cent faster than 16, 8 rows slower).
 inline int BandRowsFor(int width, size_t bytes_per_pixel) {
   const size_t row_bytes = std::max<size_t>(1, size_t(width) * bytes_per_pixel);
-  return int(std::clamp<size_t>((size_t(1) << 18) / row_bytes, 4, 256));
+  return int(std::clamp<size_t>((size_t(1) << 19) / row_bytes, 4, 256));
 }
 
 // Runs body(band) for every band in [0, bands) on WorkerCount(threads, rows) threads, each
