@@ -232,6 +232,9 @@ TEST_CASE("crossing and near features are trimmed, never crossed", "[triangulate
                                    Line({-5, 50}, {40, 50}, 6, 1.0f)};  // leaves the frame
   sdvi::ControlMeshOptions o;
   o.max_edge = 40;  // no segment gets split
+  const bool junctions = GENERATE(false, true);
+  o.junctions = junctions;
+  INFO("junctions " << junctions);
   auto mesh = sdvi::BuildControlMesh(200, 200, curves, Grid(200, 200, 10), o);
   REQUIRE(mesh.ok());
   CheckValidMesh(*mesh);
@@ -242,10 +245,18 @@ TEST_CASE("crossing and near features are trimmed, never crossed", "[triangulate
     REQUIRE(v.y >= 0);
     REQUIRE(v.y <= 200);
   }
-  // The longest feature (the first diagonal) survives whole as a pair.
+  // The longest feature (the first diagonal) survives whole as a pair; with junctions the
+  // features crossing it add their junction corners (crease-degree >= 3) to it.
   REQUIRE(mesh->polylines.size() >= 3);
-  REQUIRE(mesh->polylines[1].vertices.size() == 21);
-  REQUIRE(mesh->polylines[2].vertices.size() == 21);
+  std::vector<int> degree(mesh->vertices.size(), 0);
+  for (const Edge& e : mesh->crease_edges) ++degree[e.a], ++degree[e.b];
+  for (size_t k : {1, 2}) {
+    size_t plain = 0, joined = 0;
+    for (uint32_t v : mesh->polylines[k].vertices) (degree[v] >= 3 ? joined : plain) += 1;
+    CHECK(plain == 21);
+    if (junctions) CHECK(joined > 0);
+    else CHECK(joined == 0);
+  }
 }
 
 TEST_CASE("interior samples become vertices unless too close to a feature", "[triangulate]") {

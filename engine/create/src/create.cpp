@@ -637,6 +637,7 @@ StatusOr<Image> CreateFromCurves(const CurveDrawing& drawing, const CreateOption
   mesh_options.max_edge = float(max_edge);
   mesh_options.clearance = options.clearance;
   mesh_options.fine_cuts = false;  // ColorPairs finds each pair vertex among the control points
+  mesh_options.junctions = false;  // and pairs vertex by vertex, which a junction would shift
   SDVI_ASSIGN_OR_RETURN(Image image, BuildControlMesh(drawing.width, drawing.height, features, {}, mesh_options));
   if (image.pairs.empty())
     return Status(StatusCode::kEmptyInput, "CreateFromCurves: no curve lies inside the " +

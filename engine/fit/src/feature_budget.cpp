@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <tuple>
+#include <vector>
 
 #include "sdvi/bspline.h"
 
@@ -100,6 +102,68 @@ std::vector<Choice> UpperHull(std::vector<Choice> choices) {
   return hull;
 }
 
+// Polylines a feature is placed as (src/pairs.h): a thin structure 3 (two pairs sharing the
+// centre; 4 when wide, counted 3), a pair 2, without pairs 1.
+double PolylinesOf(const FeatureCurve& c, bool pairs) { return pairs ? (c.width > 0 ? 3.0 : 2.0) : 1.0; }
+
+// Junction vertices each feature adds when placed with the others (ControlMeshOptions::
+// junctions): every crossing of two features' control polygons is a junction of each of
+// one's polylines with each of the other's, half of them counted to each feature.
+std::vector<double> JunctionVertexCosts(const std::vector<FeatureCurve>& curves, bool pairs) {
+  std::vector<double> extra(curves.size(), 0.0);
+  struct Seg {
+    Point2 a, b;
+    uint32_t curve;
+  };
+  std::vector<Seg> segs;
+  double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+  for (size_t i = 0; i < curves.size(); ++i) {
+    const FeatureCurve& c = curves[i];
+    if (c.boundary || c.points.size() < 2) continue;
+    const size_t m = c.points.size(), n = c.closed ? m : m - 1;
+    for (size_t k = 0; k < n; ++k) {
+      const Point2 a = c.points[k], b = c.points[(k + 1) % m];
+      segs.push_back({a, b, uint32_t(i)});
+      x0 = std::min({x0, a.x, b.x}), y0 = std::min({y0, a.y, b.y});
+      x1 = std::max({x1, a.x, b.x}), y1 = std::max({y1, a.y, b.y});
+    }
+  }
+  if (segs.empty()) return extra;
+  // Square cells of at least 16 px, at most about one per segment.
+  const double cell = std::max(16.0, std::sqrt((x1 - x0 + 1) * (y1 - y0 + 1) / double(segs.size())));
+  const int nx = int((x1 - x0) / cell) + 1, ny = int((y1 - y0) / cell) + 1;
+  const double cx = cell, cy = cell;
+  std::vector<std::vector<uint32_t>> cells(size_t(nx) * size_t(ny));
+  auto cells_of = [&](const Seg& s, auto&& f) {
+    const int a0 = std::clamp(int((std::min(s.a.x, s.b.x) - x0) / cx), 0, nx - 1);
+    const int a1 = std::clamp(int((std::max(s.a.x, s.b.x) - x0) / cx), 0, nx - 1);
+    const int b0 = std::clamp(int((std::min(s.a.y, s.b.y) - y0) / cy), 0, ny - 1);
+    const int b1 = std::clamp(int((std::max(s.a.y, s.b.y) - y0) / cy), 0, ny - 1);
+    for (int y = b0; y <= b1; ++y)
+      for (int x = a0; x <= a1; ++x) f(cells[size_t(y) * size_t(nx) + size_t(x)]);
+  };
+  for (uint32_t k = 0; k < segs.size(); ++k) cells_of(segs[k], [&](std::vector<uint32_t>& c) { c.push_back(k); });
+  auto cross = [](Point2 o, Point2 a, Point2 b) { return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x); };
+  std::vector<uint32_t> last(segs.size(), UINT32_MAX);
+  for (uint32_t k = 0; k < segs.size(); ++k) {
+    const Seg& s = segs[k];
+    cells_of(s, [&](std::vector<uint32_t>& c) {
+      for (uint32_t j : c) {
+        if (j <= k || last[j] == k || segs[j].curve == s.curve) continue;
+        last[j] = k;
+        const Seg& t = segs[j];
+        const double d1 = cross(t.a, t.b, s.a), d2 = cross(t.a, t.b, s.b);
+        const double d3 = cross(s.a, s.b, t.a), d4 = cross(s.a, s.b, t.b);
+        if (!(((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0)))) continue;
+        const double half = 0.5 * PolylinesOf(curves[s.curve], pairs) * PolylinesOf(curves[t.curve], pairs);
+        extra[s.curve] += half;
+        extra[t.curve] += half;
+      }
+    });
+  }
+  return extra;
+}
+
 }  // namespace
 
 double FeatureVertexCost(const FeatureCurve& curve, bool pairs) {
@@ -112,8 +176,10 @@ std::vector<FeatureCurve> FitFeaturesToBudget(const std::vector<FeatureCurve>& c
   FeatureBudgetStats local;
   FeatureBudgetStats& s = stats != nullptr ? *stats : local;
   s = FeatureBudgetStats();
-  for (const FeatureCurve& c : curves)
-    if (!c.boundary) s.vertices_detected += FeatureVertexCost(c, options.pairs);
+  const std::vector<double> junction_cost =
+      options.junctions ? JunctionVertexCosts(curves, options.pairs) : std::vector<double>(curves.size(), 0.0);
+  for (size_t i = 0; i < curves.size(); ++i)
+    if (!curves[i].boundary) s.vertices_detected += FeatureVertexCost(curves[i], options.pairs) + junction_cost[i];
   if (s.vertices_detected <= options.vertex_budget) {
     s.vertices_kept = s.vertices_detected;
     return curves;
@@ -133,12 +199,12 @@ std::vector<FeatureCurve> FitFeaturesToBudget(const std::vector<FeatureCurve>& c
     if (c.boundary) continue;
     const double contrast = c.contrast > 0 ? double(c.contrast) : 1.0;
     const double full_value = contrast * contrast * PolygonLength(c);
-    std::vector<Choice> choices = {{0, 0, -1}, {FeatureVertexCost(c, options.pairs), full_value, 0}};
+    std::vector<Choice> choices = {{0, 0, -1}, {FeatureVertexCost(c, options.pairs) + junction_cost[i], full_value, 0}};
     double finer_cost = choices.back().cost;
     for (int k = 1; k <= options.coarse_levels; ++k) {
       double error = 0;
       FeatureCurve coarser = Coarsen(c, std::ldexp(1.0, k), &error);
-      const double cost = FeatureVertexCost(coarser, options.pairs);
+      const double cost = FeatureVertexCost(coarser, options.pairs) + junction_cost[i];
       const double value = full_value * std::max(0.0, 1.0 - 12.0 * error / spacing);
       coarse[i].push_back(std::move(coarser));
       if (!(cost < finer_cost) || !(value > 0)) continue;

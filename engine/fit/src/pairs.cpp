@@ -6,6 +6,8 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
+#include <optional>
 #include <string>
 #include <unordered_map>
 
@@ -43,9 +45,11 @@ class SegmentGrid {
     ny_ = std::max(1, int(std::ceil((height + 2 * kPad) / cell)));
     cells_.resize(size_t(nx_) * ny_);
   }
-  void Add(Point2 a, Point2 b) {
+  // Adds segment (a, b), segment `segment` of placed polyline `polyline` (-1: none).
+  void Add(Point2 a, Point2 b, int polyline = -1, int segment = -1) {
     int id = int(segs_.size());
     segs_.push_back({a, b});
+    owners_.push_back({polyline, segment});
     ForCells(a, b, 0, [&](std::vector<int>& c) { c.push_back(id); });
   }
   // Smallest distance from segment (a, b) to a placed segment, capped at `reach`.
@@ -56,7 +60,18 @@ class SegmentGrid {
     });
     return best;
   }
+  // Ids of the placed segments in the cells within `reach` of segment (a, b), ascending.
+  std::vector<int> Near(Point2 a, Point2 b, double reach) const {
+    std::vector<int> ids;
+    const_cast<SegmentGrid*>(this)->ForCells(a, b, reach, [&](std::vector<int>& c) {
+      ids.insert(ids.end(), c.begin(), c.end());
+    });
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    return ids;
+  }
   const std::vector<std::pair<Point2, Point2>>& segments() const { return segs_; }
+  const std::pair<int, int>& owner(int id) const { return owners_[size_t(id)]; }
 
  private:
   static constexpr double kPad = 16;
@@ -73,6 +88,7 @@ class SegmentGrid {
   int nx_ = 1, ny_ = 1;
   std::vector<std::vector<int>> cells_;
   std::vector<std::pair<Point2, Point2>> segs_;
+  std::vector<std::pair<int, int>> owners_;  // (polyline, segment) of each segment
 };
 
 // Removes consecutive (near-)duplicate points, keeping corner tags; splits segments
@@ -222,18 +238,189 @@ Status ValidateCurve(const FeatureCurve& c, size_t index, int width, int height)
   return Status::Ok();
 }
 
+// Junctions (rules in pairs.h): a candidate segment crossing a placed feature segment at
+// kJunctionMinSin or more, kJunctionGap or more from every vertex and junction of both.
+constexpr double kJunctionMinSin = 0.5;  // 30 degrees
+constexpr double kJunctionGap = 0.25;    // px
+constexpr double kTouch = 0.01;          // px: closer, a contact is never explained by a junction
+
+// A point to insert into a placed polyline: on its segment `segment` (as placed), at
+// parameter u along it.
+struct Insertion {
+  int segment;
+  double u;
+  Point2 at;
+  int vertex = -1;  // >= 0: the junction is this existing vertex (made a corner), nothing inserted
+};
+
+// A crossing of candidate line `line` with placed polyline `polyline` that becomes a shared
+// corner vertex `at`. On the candidate it is inserted on segment `segment` at parameter t, or
+// it is the candidate's vertex `candidate_vertex` (moved onto `at`, at most kJunctionGap); on
+// the placed polyline it is inserted on segment `placed_segment` at parameter u, or it is
+// the placed vertex `vertex`.
+struct Junction {
+  int line, segment;
+  double t;
+  int polyline, placed_segment;
+  double u;
+  Point2 at;
+  double radius;              // the neighbourhood where the two may come closer than the clearance
+  int vertex = -1;            // placed vertex, or -1
+  int candidate_vertex = -1;  // candidate vertex, or -1
+  int other_segment = -1;     // the candidate vertex's other segment (-1: an open end)
+};
+
+// What junction tests read of the placed features.
+struct JunctionContext {
+  const std::vector<PlacedPolyline>* placed;
+  const std::vector<std::vector<Insertion>>* pending;  // junctions already on each polyline
+};
+
+// The parts of segment (a, b) outside the disc (o, r).
+std::vector<std::pair<Point2, Point2>> OutsideDisc(Point2 a, Point2 b, Point2 o, double r) {
+  const double vx = b.x - a.x, vy = b.y - a.y, wx = a.x - o.x, wy = a.y - o.y;
+  const double qa = vx * vx + vy * vy, qb = 2 * (vx * wx + vy * wy), qc = wx * wx + wy * wy - r * r;
+  const double disc = qb * qb - 4 * qa * qc;
+  if (qa <= 0 || disc <= 0) return {{a, b}};
+  const double s1 = (-qb - std::sqrt(disc)) / (2 * qa), s2 = (-qb + std::sqrt(disc)) / (2 * qa);
+  auto at = [&](double s) { return Point2{a.x + s * vx, a.y + s * vy}; };
+  std::vector<std::pair<Point2, Point2>> parts;
+  if (s1 > 0) parts.push_back({a, at(std::min(s1, 1.0))});
+  if (s2 < 1) parts.push_back({at(std::max(s2, 0.0)), b});
+  return parts;
+}
+
+// Distance between segments (a, b) and (c, d) with the disc (o, r) left out of either.
+double DistanceOutsideDisc(Point2 a, Point2 b, Point2 c, Point2 d, Point2 o, double r) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& [p, q] : OutsideDisc(a, b, o, r)) best = std::min(best, SegmentDistance(p, q, c, d));
+  for (const auto& [p, q] : OutsideDisc(c, d, o, r)) best = std::min(best, SegmentDistance(a, b, p, q));
+  return best;
+}
+
+// The junction of candidate segment `segment` (a, b) of line `l` with placed segment `id`,
+// if their contact is one (rules above); `found` holds the candidate's junctions so far. A
+// crossing within kJunctionGap of a vertex is that vertex: the placed polyline's (kept), or
+// the candidate's (moved onto the placed segment), when the polylines pass through each
+// other there (their neighbours on opposite sides) at kJunctionMinSin or more; a candidate's
+// open end within kJunctionGap of a placed segment ends on it (a T).
+std::optional<Junction> JunctionAt(const PlacedPolyline& l, int line, int segment, int id, const SegmentGrid& placed,
+                                   const JunctionContext& context, const std::vector<Junction>& found,
+                                   double clearance) {
+  const auto [polyline, placed_segment] = placed.owner(id);
+  if (polyline < 0 || (*context.placed)[size_t(polyline)].boundary) return std::nullopt;
+  const PlacedPolyline& pl = (*context.placed)[size_t(polyline)];
+  const int pm = int(pl.points.size()), m = int(l.points.size());
+  const Point2 a = l.points[size_t(segment)], b = l.points[size_t(segment + 1) % size_t(m)];
+  const auto& [c, d] = placed.segments()[size_t(id)];
+  auto sin_between = [](Point2 p, Point2 q, Point2 r, Point2 s) {
+    const double ux = q.x - p.x, uy = q.y - p.y, vx = s.x - r.x, vy = s.y - r.y;
+    const double n = std::hypot(ux, uy) * std::hypot(vx, vy);
+    return n > 0 ? std::fabs(ux * vy - uy * vx) / n : 0.0;
+  };
+  // Strictly on opposite sides of the line (p, q).
+  auto apart = [](Point2 p, Point2 q, Point2 x, Point2 y) {
+    const double cx = Cross(p, q, x), cy = Cross(p, q, y);
+    return (cx > 0 && cy < 0) || (cx < 0 && cy > 0);
+  };
+  auto neighbours = [](const PlacedPolyline& pl, int i, Point2* before, Point2* after) {
+    const int n = int(pl.points.size());
+    if (!pl.closed && (i == 0 || i == n - 1)) return false;
+    *before = pl.points[size_t((i + n - 1) % n)];
+    *after = pl.points[size_t((i + 1) % n)];
+    return true;
+  };
+  Junction j{line, segment, 0, polyline, placed_segment, 0, {}, 0};
+  double sin_angle = sin_between(a, b, c, d);
+  const bool near_a = PointSegmentDistance(a, c, d) < kJunctionGap, near_b = PointSegmentDistance(b, c, d) < kJunctionGap;
+  const bool near_c = PointSegmentDistance(c, a, b) < kJunctionGap, near_d = PointSegmentDistance(d, a, b) < kJunctionGap;
+  if (SegmentsCross(a, b, c, d) && !near_a && !near_b && !near_c && !near_d) {
+    const double rx = b.x - a.x, ry = b.y - a.y, qx = d.x - c.x, qy = d.y - c.y, den = rx * qy - ry * qx;
+    j.t = ((c.x - a.x) * qy - (c.y - a.y) * qx) / den;
+    j.u = ((c.x - a.x) * ry - (c.y - a.y) * rx) / den;
+    j.at = {a.x + j.t * rx, a.y + j.t * ry};
+  } else if ((near_a || near_b) != (near_c || near_d)) {
+    if (near_c || near_d) {  // a placed vertex on the candidate segment
+      const int vi = (placed_segment + (near_d ? 1 : 0)) % pm;
+      Point2 before, after;
+      if (!neighbours(pl, vi, &before, &after) || !apart(a, b, before, after)) return std::nullopt;
+      j.vertex = vi;
+      j.at = pl.points[size_t(vi)];
+      const double rl2 = (b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y);
+      j.t = ((j.at.x - a.x) * (b.x - a.x) + (j.at.y - a.y) * (b.y - a.y)) / rl2;
+      sin_angle = std::min(sin_between(a, b, before, j.at), sin_between(a, b, j.at, after));
+    } else {  // a candidate vertex on the placed segment: moved onto it
+      const int wi = (segment + (near_b ? 1 : 0)) % m;
+      const Point2 w = l.points[size_t(wi)];
+      Point2 before, after;
+      if (neighbours(l, wi, &before, &after)) {
+        if (!apart(c, d, before, after)) return std::nullopt;
+        sin_angle = std::min(sin_between(c, d, before, w), sin_between(c, d, w, after));
+        j.other_segment = near_b ? (segment + 1) % m : (segment + m - 1) % m;
+        if (!l.closed && j.other_segment >= m - 1) return std::nullopt;
+      }
+      const double ql2 = (d.x - c.x) * (d.x - c.x) + (d.y - c.y) * (d.y - c.y);
+      j.u = std::clamp(((w.x - c.x) * (d.x - c.x) + (w.y - c.y) * (d.y - c.y)) / ql2, 0.0, 1.0);
+      j.at = {c.x + j.u * (d.x - c.x), c.y + j.u * (d.y - c.y)};
+      j.candidate_vertex = wi;
+      j.t = near_b ? 1 : 0;
+    }
+  } else if (near_a || near_b) {  // a vertex of each, together: the placed one
+    const int wi = (segment + (near_b ? 1 : 0)) % m, vi = (placed_segment + (near_d ? 1 : 0)) % pm;
+    const Point2 w = l.points[size_t(wi)], v = pl.points[size_t(vi)];
+    Point2 lb, la, pb, pa;
+    if (Dist(w, v) >= kJunctionGap || !neighbours(pl, vi, &pb, &pa)) return std::nullopt;
+    if (neighbours(l, wi, &lb, &la)) {
+      if (!apart(pb, pa, lb, la) || !apart(lb, la, pb, pa)) return std::nullopt;
+      sin_angle = std::min({sin_between(lb, w, pb, v), sin_between(lb, w, v, pa), sin_between(w, la, pb, v),
+                            sin_between(w, la, v, pa)});
+      j.other_segment = near_b ? (segment + 1) % m : (segment + m - 1) % m;
+      if (!l.closed && j.other_segment >= m - 1) return std::nullopt;
+    } else {
+      sin_angle = std::min(sin_between(a, b, pb, v), sin_between(a, b, v, pa));
+    }
+    j.vertex = vi;
+    j.candidate_vertex = wi;
+    j.at = v;
+    j.t = near_b ? 1 : 0;
+  } else {
+    return std::nullopt;
+  }
+  if (!(sin_angle >= kJunctionMinSin)) return std::nullopt;
+  if (j.candidate_vertex < 0 && (Dist(j.at, a) < kJunctionGap || Dist(j.at, b) < kJunctionGap)) return std::nullopt;
+  if (j.vertex < 0 && (Dist(j.at, c) < kJunctionGap || Dist(j.at, d) < kJunctionGap)) return std::nullopt;
+  for (const Insertion& k : (*context.pending)[size_t(polyline)])
+    if (Dist(j.at, k.at) < kJunctionGap) return std::nullopt;
+  for (const Junction& k : found)
+    if ((k.line == line || k.polyline == polyline) && Dist(j.at, k.at) < kJunctionGap) return std::nullopt;
+  j.radius = 1.5 * clearance / sin_angle;
+  return j;
+}
+
 // Tags segments of a candidate (one or two polylines with equal segment count) that
 // conflict with placed segments, with each other, or leave the domain.
 // check_domain: also tag segments whose end points leave the domain (the frame shrunk by
 // the clearance, or the inside of the boundary polylines when given).
+// With a junction context, crossings of placed features may become junctions (*junctions:
+// those whose segment stays good); every other contact closer than the clearance is a
+// conflict unless a junction of the same candidate line and placed polyline explains it (the
+// two are clear of each other outside the junction's radius), and a segment explained only
+// by junctions on cut segments is cut too.
 std::vector<bool> BadSegments(const std::vector<const PlacedPolyline*>& lines, const SegmentGrid& placed,
                               double clearance, double self_clearance, bool check_domain, int width,
-                              int height, const DomainTest* domain) {
+                              int height, const DomainTest* domain, const JunctionContext* context = nullptr,
+                              std::vector<Junction>* junctions = nullptr) {
   const PlacedPolyline& first = *lines[0];
   const int m = int(first.points.size());
   const int segs = first.closed ? m : m - 1;
   std::vector<bool> bad(std::max(segs, 0), false);
-  for (const PlacedPolyline* l : lines) {
+  struct Contact {
+    int line, segment, placed_id;
+    std::vector<size_t> junctions;  // the junctions that explain it
+  };
+  std::vector<Contact> contacts;
+  if (junctions != nullptr) junctions->clear();
+  for (const PlacedPolyline* const& l : lines) {
     for (int i = 0; i < m && check_domain; ++i) {
       Point2 p = l->points[i];
       bool inside = domain ? domain->Inside(p)
@@ -247,7 +434,20 @@ std::vector<bool> BadSegments(const std::vector<const PlacedPolyline*>& lines, c
     for (int i = 0; i < segs; ++i) {
       if (bad[i]) continue;
       Point2 a = l->points[i], b = l->points[(i + 1) % m];
-      if (placed.Distance(a, b, clearance) < clearance) bad[i] = true;
+      if (context == nullptr) {
+        if (placed.Distance(a, b, clearance) < clearance) bad[i] = true;
+        continue;
+      }
+      const int line = int(&l - &lines[0]);
+      for (int id : placed.Near(a, b, clearance)) {
+        const auto& [c, d] = placed.segments()[size_t(id)];
+        if (SegmentDistance(a, b, c, d) >= clearance) continue;
+        if (auto j = JunctionAt(*l, line, i, id, placed, *context, *junctions, clearance)) {
+          junctions->push_back(*j);
+        } else {
+          contacts.push_back({line, i, id, {}});
+        }
+      }
     }
   }
   // Self and mutual conflicts of the candidate's own segments: every pair closer than
@@ -329,40 +529,127 @@ std::vector<bool> BadSegments(const std::vector<const PlacedPolyline*>& lines, c
       }
     });
   }
+  if (context == nullptr) return bad;
+  // Contacts explained by junctions; then, until nothing changes, a contact whose junctions
+  // all lie on cut segments is a conflict, and so is a run of one segment (never emitted
+  // when some segment is cut).
+  for (Contact& k : contacts) {
+    const auto& p = lines[size_t(k.line)]->points;
+    const Point2 a = p[size_t(k.segment)], b = p[size_t(k.segment + 1) % size_t(m)];
+    const auto& [c, d] = placed.segments()[size_t(k.placed_id)];
+    const int polyline = placed.owner(k.placed_id).first;
+    const int placed_segment = placed.owner(k.placed_id).second;
+    const int pm = int((*context->placed)[size_t(polyline)].points.size());
+    const bool touching = SegmentDistance(a, b, c, d) < kTouch;
+    for (size_t j = 0; j < junctions->size(); ++j) {
+      const Junction& x = (*junctions)[j];
+      // A junction at a vertex of this placed segment explains its touching the candidate.
+      const bool at_end = (x.vertex >= 0 && (x.vertex == placed_segment || x.vertex == (placed_segment + 1) % pm)) ||
+                          (x.candidate_vertex >= 0 &&
+                           (x.candidate_vertex == k.segment || x.candidate_vertex == (k.segment + 1) % m));
+      if (x.line == k.line && x.polyline == polyline && (!touching || at_end) &&
+          PointSegmentDistance(x.at, a, b) < x.radius && DistanceOutsideDisc(a, b, c, d, x.at, x.radius) >= clearance)
+        k.junctions.push_back(j);
+    }
+    if (k.junctions.empty()) bad[size_t(k.segment)] = true;
+  }
+  auto dead = [&](const Junction& j) {
+    return bad[size_t(j.segment)] && (j.other_segment < 0 || bad[size_t(j.other_segment)]);
+  };
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (const Contact& k : contacts) {
+      if (bad[size_t(k.segment)]) continue;
+      if (std::all_of(k.junctions.begin(), k.junctions.end(), [&](size_t j) { return dead((*junctions)[j]); })) {
+        bad[size_t(k.segment)] = true;
+        changed = true;
+      }
+    }
+    if (std::find(bad.begin(), bad.end(), true) == bad.end()) break;
+    for (int i = 0; i < segs; ++i) {
+      if (bad[size_t(i)]) continue;
+      const bool before = first.closed ? bad[size_t((i + segs - 1) % segs)] : (i == 0 || bad[size_t(i - 1)]);
+      const bool after = first.closed ? bad[size_t((i + 1) % segs)] : (i + 1 == segs || bad[size_t(i + 1)]);
+      if (before && after) {
+        bad[size_t(i)] = true;
+        changed = true;
+      }
+    }
+  }
+  junctions->erase(std::remove_if(junctions->begin(), junctions->end(), dead), junctions->end());
   return bad;
 }
 
-// Sub-polyline of points [a, b] (indices mod m) keeping the corners strictly inside and
-// leaving out the points strictly inside marked in `skip`.
-PlacedPolyline SubPolyline(const PlacedPolyline& l, int a, int b, const std::vector<bool>& skip) {
+// The part of candidate line `line` to place: points a..b (indices mod m; closed: the
+// whole closed polyline, a and b unused), leaving out the points strictly inside marked in
+// `skip` (never corners), keeping the corners strictly inside (closed: all), and with the
+// line's junctions inserted on their segments as corners; each junction is also queued
+// for insertion into the placed polyline it crosses (*pending).
+PlacedPolyline Emitted(const PlacedPolyline& l, int line, int a, int b, bool closed, const std::vector<bool>& skip,
+                       const std::vector<Junction>& junctions, std::vector<std::vector<Insertion>>* pending) {
   PlacedPolyline out;
-  out.closed = false;
+  out.closed = closed;
   out.boundary = l.boundary;
   const int m = int(l.points.size());
-  std::vector<bool> corner(m, false);
+  std::vector<bool> corner(size_t(m), false);
   for (uint32_t c : l.corners) corner[c] = true;
-  for (int k = a; k <= b; ++k) {
-    int i = k % m;
-    if (k != a && k != b && skip[size_t(i)]) continue;
-    if (corner[i] && k != a && k != b) out.corners.push_back(uint32_t(out.points.size()));
-    out.points.push_back(l.points[i]);
+  std::vector<const Junction*> on;
+  for (const Junction& j : junctions)
+    if (j.line == line) on.push_back(&j);
+  std::sort(on.begin(), on.end(), [](const Junction* x, const Junction* y) {
+    return x->segment != y->segment ? x->segment < y->segment : x->t < y->t;
+  });
+  const int first = closed ? 0 : a, last = closed ? m - 1 : b;
+  for (int k = first; k <= last; ++k) {
+    const int i = k % m;
+    const bool end = !closed && (k == a || k == b);
+    const Junction* at_vertex = nullptr;
+    for (const Junction* j : on)
+      if (j->candidate_vertex == i) at_vertex = j;
+    if (at_vertex != nullptr) {
+      if (!end) out.corners.push_back(uint32_t(out.points.size()));
+      out.points.push_back(at_vertex->at);
+      (*pending)[size_t(at_vertex->polyline)].push_back(
+          {at_vertex->placed_segment, at_vertex->u, at_vertex->at, at_vertex->vertex});
+    } else if (end || !skip[size_t(i)]) {
+      if (corner[size_t(i)] && !end) out.corners.push_back(uint32_t(out.points.size()));
+      out.points.push_back(l.points[size_t(i)]);
+    }
+    if (!closed && k == b) break;
+    for (const Junction* j : on) {
+      if (j->segment != i || j->candidate_vertex >= 0) continue;
+      out.corners.push_back(uint32_t(out.points.size()));
+      out.points.push_back(j->at);
+      (*pending)[size_t(j->polyline)].push_back({j->placed_segment, j->u, j->at, j->vertex});
+    }
   }
   return out;
 }
 
-// The closed polyline without the points marked in `skip` (never corners).
-PlacedPolyline WithoutPoints(const PlacedPolyline& l, const std::vector<bool>& skip) {
+// Inserts the queued junctions into a placed polyline, as corners, in order along each segment.
+void InsertJunctions(PlacedPolyline& l, std::vector<Insertion> insertions) {
+  std::sort(insertions.begin(), insertions.end(), [](const Insertion& x, const Insertion& y) {
+    return x.segment != y.segment ? x.segment < y.segment : x.u < y.u;
+  });
+  const size_t m = l.points.size();
+  std::vector<bool> corner(m, false);
+  for (uint32_t c : l.corners) corner[c] = true;
+  for (const Insertion& k : insertions)
+    if (k.vertex >= 0) corner[size_t(k.vertex)] = true;
   PlacedPolyline out;
   out.closed = l.closed;
   out.boundary = l.boundary;
-  std::vector<bool> corner(l.points.size(), false);
-  for (uint32_t c : l.corners) corner[c] = true;
-  for (size_t i = 0; i < l.points.size(); ++i) {
-    if (skip[i]) continue;
+  size_t next = 0;
+  for (size_t i = 0; i < m; ++i) {
     if (corner[i]) out.corners.push_back(uint32_t(out.points.size()));
     out.points.push_back(l.points[i]);
+    for (; next < insertions.size() && insertions[next].segment == int(i); ++next) {
+      if (insertions[next].vertex >= 0) continue;
+      out.corners.push_back(uint32_t(out.points.size()));
+      out.points.push_back(insertions[next].at);
+    }
   }
-  return out;
+  l = std::move(out);
 }
 
 double PolylineArea(const PlacedPolyline& l) {
@@ -476,13 +763,17 @@ StatusOr<PlacedFeatures> PlaceFeatures(int width, int height, const std::vector<
   const double max_len = 0.7 * out.max_edge;
   const double clearance = options.clearance;
   SegmentGrid grid(width, height, std::max(4.0, std::min(32.0, out.max_edge)));
+  std::vector<std::vector<Insertion>> pending;  // junctions to insert into each placed polyline
   auto place = [&](PlacedPolyline l) {
     const size_t m = l.points.size();
     const size_t segs = l.closed ? m : m - 1;
-    for (size_t i = 0; i < segs; ++i) grid.Add(l.points[i], l.points[(i + 1) % m]);
+    const int k = int(out.polylines.size());
+    for (size_t i = 0; i < segs; ++i) grid.Add(l.points[i], l.points[(i + 1) % m], k, int(i));
     out.polylines.push_back(std::move(l));
-    return uint32_t(out.polylines.size() - 1);
+    pending.emplace_back();
+    return uint32_t(k);
   };
+  const JunctionContext junction_context{&out.polylines, &pending};
 
   // Domain boundary.
   std::vector<size_t> boundary_idx;
@@ -552,6 +843,7 @@ StatusOr<PlacedFeatures> PlaceFeatures(int width, int height, const std::vector<
       self_clearance = std::min(self_clearance, 0.4 * std::fabs(layout.offsets[k - 1] - layout.offsets[k]));
     std::vector<PlacedPolyline> lines;
     std::vector<bool> bad;
+    std::vector<Junction> junctions;
     auto test = [&] {
       lines.clear();
       for (std::vector<Point2>& points : OffsetPolygon(centre.points, centre.closed, layout.offsets)) {
@@ -561,7 +853,8 @@ StatusOr<PlacedFeatures> PlaceFeatures(int width, int height, const std::vector<
       }
       std::vector<const PlacedPolyline*> ptrs;
       for (const PlacedPolyline& l : lines) ptrs.push_back(&l);
-      bad = BadSegments(ptrs, grid, clearance, self_clearance, true, width, height, domain_test);
+      bad = BadSegments(ptrs, grid, clearance, self_clearance, true, width, height, domain_test,
+                        options.junctions ? &junction_context : nullptr, &junctions);
     };
     test();
     // Fine cuts: bad segments are split into pieces of at most 2 x clearance and tested
@@ -574,8 +867,8 @@ StatusOr<PlacedFeatures> PlaceFeatures(int width, int height, const std::vector<
     const int segs = int(bad.size());
     auto emit = [&](int a, int b, bool closed) {  // points a..b (mod m)
       std::vector<uint32_t> ids;
-      for (const PlacedPolyline& line : lines)
-        ids.push_back(place(closed ? WithoutPoints(line, inserted) : SubPolyline(line, a, b, inserted)));
+      for (size_t li = 0; li < lines.size(); ++li)
+        ids.push_back(place(Emitted(lines[li], int(li), a, b, closed, inserted, junctions, &pending)));
       for (const auto& [first, second] : layout.pairs) out.pairs.push_back({ids[first], ids[second], sharpness});
     };
     const bool any_bad = std::find(bad.begin(), bad.end(), true) != bad.end();
@@ -615,6 +908,9 @@ StatusOr<PlacedFeatures> PlaceFeatures(int width, int height, const std::vector<
       place_feature(outline);
     }
   }
+
+  for (size_t k = 0; k < out.polylines.size(); ++k)
+    if (!pending[k].empty()) InsertJunctions(out.polylines[k], std::move(pending[k]));
 
   // Interior samples: inside, clear of polylines, at least clearance apart.
   SegmentGrid sample_grid(width, height, std::max(4.0, 4 * clearance));

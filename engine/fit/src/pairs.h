@@ -51,6 +51,17 @@ struct PlacedFeatures {
 //    / 2; else at +-(w/2 + d/2) and 0, pairs (0, 1) and (1, 2) sharing the centre; cut as one
 //    unit, then, where cut, its two outlines (+-w/2) are placed as ordinary features where
 //    they fit (pairs = false: the outlines +-w/2, or the centre alone when w < clearance);
+//  - junctions (options.junctions): a segment crossing a placed feature polyline (not the
+//    boundary) at 30 degrees or more gets the crossing as a vertex, inserted into both
+//    polylines as a corner (BuildControlMesh makes equal points one vertex); within 0.25 px
+//    of a vertex the crossing is that vertex (a placed one kept, a candidate's moved onto
+//    the placed segment; a candidate's open end ends on it), when the two pass through each
+//    other there at 30 degrees or more; a junction keeps 0.25 px from other vertices and
+//    junctions. A contact closer than the clearance is no conflict when a junction of the
+//    same two polylines explains it: outside the disc of 1.5 clearance / sin(angle) around
+//    it they are the clearance apart and they touch (< 0.01 px) only at the junction's
+//    vertex; a segment explained only by junctions on cut segments is cut (to a fixpoint,
+//    with runs of one segment);
 //  - interior samples inside the domain and clear of every polyline, deduplicated.
 StatusOr<PlacedFeatures> PlaceFeatures(int width, int height, const std::vector<FeatureCurve>& curves,
                                        const std::vector<Point2>& interior_samples,

@@ -161,12 +161,25 @@ StatusOr<Image> BuildControlMesh(int width, int height, const std::vector<Featur
                                  const ControlMeshOptions& options) {
   SDVI_ASSIGN_OR_RETURN(PlacedFeatures placed, PlaceFeatures(width, height, curves, interior_samples, options));
 
-  // Our vertices: polyline points, then samples.
+  // Our vertices: polyline points, then samples. A junction is the same point in the
+  // polylines that meet there (src/pairs.h): equal coordinates give one vertex.
   std::vector<Point2> points;
   std::vector<std::vector<uint32_t>> polyline_vertices;
+  std::unordered_map<uint64_t, std::vector<uint32_t>> by_position;
+  auto position_key = [](const Point2& p) {
+    return std::hash<double>{}(p.x) * 1000003u ^ std::hash<double>{}(p.y);
+  };
   for (const PlacedPolyline& l : placed.polylines) {
     std::vector<uint32_t> ids;
     for (const Point2& p : l.points) {
+      std::vector<uint32_t>& same = by_position[position_key(p)];
+      auto it = std::find_if(same.begin(), same.end(),
+                             [&](uint32_t v) { return points[v].x == p.x && points[v].y == p.y; });
+      if (it != same.end()) {
+        ids.push_back(*it);
+        continue;
+      }
+      same.push_back(uint32_t(points.size()));
       ids.push_back(uint32_t(points.size()));
       points.push_back(p);
     }

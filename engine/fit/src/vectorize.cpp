@@ -177,6 +177,7 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
       (1.0 - (1.0 - options.max_feature_fraction) * content.BusyShare()) * vertex_budget;
   budget_options.interior_spacing = std::sqrt(double(domain_pixels) / vertex_budget);
   budget_options.pairs = options.mesh.pairs;
+  budget_options.junctions = options.mesh.junctions;
   FeatureBudgetStats budget_stats;
   std::vector<FeatureCurve> curves = FitFeaturesToBudget(detected, budget_options, &budget_stats);
   seconds.features += SecondsSince(start);

@@ -15,6 +15,8 @@ struct FeatureBudgetOptions {
   double interior_spacing = 8;  // mean spacing of the interior samples, px: sqrt(pixels / budget)
   bool pairs = true;            // a feature costs its polygon twice (a thin structure four times)
   int coarse_levels = 3;        // coarser fits tried: tolerance and spacing x 2, x 4, x 8
+  bool junctions = true;        // a feature also costs its junctions: half of (its polylines x
+                                // the other's) per crossing of two control polygons
 };
 
 struct FeatureBudgetStats {
@@ -32,7 +34,8 @@ double FeatureVertexCost(const FeatureCurve& curve, bool pairs);
 // curves are always kept as they are; when every feature fits, all are kept unchanged.
 // Otherwise each feature has options: dropped, as given (level 0) or refitted to its own
 // spline at level k = 1..coarse_levels (FitChain with tolerance 1.5 x 2^k px, initial
-// spacing 8 x 2^k, max spacing 12 x 2^k; corners kept), each with a cost (FeatureVertexCost)
+// spacing 8 x 2^k, max spacing 12 x 2^k; corners kept), each with a cost (FeatureVertexCost,
+// plus its junction vertices when options.junctions)
 // and a value, the squared error the feature removes from the interior's reconstruction:
 //   value = contrast^2 x length x max(0, 1 - e / interior_spacing)
 // (an edge the interior represents is smeared over about the sample spacing; one placed e

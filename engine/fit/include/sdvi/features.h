@@ -116,6 +116,9 @@ struct ControlMeshOptions {
                              // 2 x clearance and test again (src/pairs.h); false: every
                              // placed vertex is a point of the given curves (or a split of
                              // a segment longer than 0.7 max_edge)
+  bool junctions = true;     // features that cross at 30 degrees or more share a junction
+                             // vertex (a corner) instead of being cut (src/pairs.h); false:
+                             // every crossing is cut out with its neighbourhood
 };
 
 // Distance between the two polylines of a feature pair (paper section IV step 3):
@@ -136,6 +139,7 @@ std::array<std::vector<Point2>, 2> OffsetPairSides(const std::vector<Point2>& ce
 // normals, the given interior samples, a constrained Delaunay triangulation (CGAL) with
 // no Steiner point on a feature polyline. Fills crease_edges, corners, polylines, pairs.
 // Placement rules (trimming of crossing features etc.) are documented in src/pairs.h.
+// A junction (options.junctions) is one vertex listed in each polyline meeting there.
 // Vertex order: polyline vertices (boundary first, then features in placement order),
 // then the kept interior samples, then Steiner points of the mesher. polylines holds the
 // boundary too (closed); every pair is (side +normal, side -normal) with the curve's
