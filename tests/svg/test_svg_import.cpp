@@ -477,3 +477,50 @@ TEST_CASE("svg geometry: straight-edged fills that are not boxes do not stop the
     CHECK(std::hypot(circle[k].x - 140, circle[k].y - 20) == Approx(10).margin(0.01));
   }
 }
+
+TEST_CASE("svg artwork: crossing hairlines meet at junctions, not cut around the crossing", "[svg][thin][junction]") {
+  // A grid of two 1 px lines crossing at (40.5, 32.5), drawn as two strokes on white.
+  const sdvi::SvgDocument doc = Doc(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"80\" height=\"64\">"
+      "<rect width=\"80\" height=\"64\" fill=\"white\"/>"
+      "<path d=\"M 8 32.5 L 72 32.5\" stroke=\"black\" stroke-width=\"1\"/>"
+      "<path d=\"M 40.5 6 L 40.5 58\" stroke=\"black\" stroke-width=\"1\"/></svg>");
+  auto reference = sdvi::RenderSvg(doc, 80, 64);
+  auto traced = sdvi::TraceSvgGeometry(doc, 80, 64);
+  REQUIRE(reference.ok());
+  REQUIRE(traced.ok());
+  sdvi::SvgArtworkOptions options;
+  // The lower line crosses the upper one's claim: it stays one feature through the crossing.
+  const std::vector<sdvi::FeatureCurve> curves = sdvi::ArtworkFeatures(traced->shapes, *reference, options);
+  REQUIRE(curves.size() == 2);
+  for (const sdvi::FeatureCurve& c : curves) {
+    double y0 = 1e9, y1 = -1e9, x0 = 1e9, x1 = -1e9;
+    for (const sdvi::Point2& p : c.points) {
+      x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
+    }
+    CHECK(std::max(x1 - x0, y1 - y0) > 50.0);
+  }
+  options.vectorize.max_triangles = 2000;
+  auto joined = sdvi::ImportSvgArtwork(doc, options);
+  INFO(joined.status().ToString());
+  REQUIRE(joined.ok());
+  options.vectorize.mesh.junctions = false;
+  auto cut = sdvi::ImportSvgArtwork(doc, options);
+  REQUIRE(cut.ok());
+  // PSNR against librsvg over the 13 x 13 pixels around the crossing.
+  auto psnr = [&](const sdvi::Raster& r) {
+    double sum = 0;
+    int n = 0;
+    for (int y = 26; y <= 38; ++y)
+      for (int x = 34; x <= 46; ++x)
+        for (int c = 0; c < 3; ++c) {
+          const double d = double(r.at(x, y, c)) - double(joined->reference.at(x, y, c));
+          sum += d * d, ++n;
+        }
+    return 10 * std::log10(255.0 * 255.0 / std::max(sum / n, 1e-10));
+  };
+  const double with = psnr(joined->vectorized.reconstruction), without = psnr(cut->vectorized.reconstruction);
+  INFO("junctions " << with << " dB, cut " << without << " dB");
+  CHECK(with > 30.0);
+  CHECK(without < with - 6.0);
+}

@@ -204,27 +204,67 @@ double Contrast(const Raster& reference, Point2 a, Point2 b) {
   return std::sqrt(sum / 3.0);
 }
 
+// The pixels around placed features. A thin structure's claim (FeatureCurve::width > 0)
+// keeps its direction (degrees mod 180): a sample is claimed there where it runs along it
+// (within kCrossingDeg); crossing it at kCrossingDeg or more it is not, since the crossed
+// outline shows again on the other side of the thin structure (the vectorizer makes such
+// crossings junctions, spec/METHOD.md section 6 step 3). A wider shape's outline claims
+// every direction: what crosses it ends under the shape. A pixel claimed in different
+// directions (a corner, a crossing) claims every direction.
+constexpr double kCrossingDeg = 30.0;
+
+double DirectionDeg(Point2 d) {
+  double a = std::atan2(d.y, d.x) * 180.0 / kPi;
+  a = std::fmod(a + 360.0, 180.0);
+  return a >= 180.0 ? 0.0 : a;
+}
+
+bool SameDirection(double a, double b) {
+  const double diff = std::fabs(a - b);
+  return std::min(diff, 180.0 - diff) < kCrossingDeg;
+}
+
 class ClaimMap {
  public:
-  ClaimMap(int w, int h) : w_(w), h_(h), bits_(size_t(w) * h, 0) {}
-  bool Claimed(Point2 p) const {
-    const int x = int(std::floor(p.x)), y = int(std::floor(p.y));
-    return x >= 0 && y >= 0 && x < w_ && y < h_ && bits_[size_t(y) * w_ + x];
+  ClaimMap(int w, int h) : w_(w), h_(h), dir_(size_t(w) * h, kFree) {}
+  bool Claimed(Point2 p, double direction) const {
+    const uint8_t d = At(p);
+    return d != kFree && (d == kAll || SameDirection(d, direction));
   }
-  void Claim(Point2 p, double radius) {
+  // Claimed by a feature this direction crosses.
+  bool Crossed(Point2 p, double direction) const { return At(p) != kFree && !Claimed(p, direction); }
+  // direction < 0: every direction.
+  void Claim(Point2 p, double radius, double direction) {
+    const auto dir = direction < 0 ? kAll : uint8_t(std::min(179.0, std::floor(direction)));
     const int r = int(std::ceil(radius));
     const int cx = int(std::floor(p.x)), cy = int(std::floor(p.y));
     for (int y = cy - r; y <= cy + r; ++y) {
       for (int x = cx - r; x <= cx + r; ++x) {
         if (x < 0 || y < 0 || x >= w_ || y >= h_) continue;
-        if (std::hypot(x + 0.5 - p.x, y + 0.5 - p.y) <= radius) bits_[size_t(y) * w_ + x] = 1;
+        if (std::hypot(x + 0.5 - p.x, y + 0.5 - p.y) > radius) continue;
+        uint8_t& d = dir_[size_t(y) * w_ + x];
+        if (d == kFree) d = dir;
+        else if (d != kAll && (dir == kAll || !SameDirection(d, dir))) d = kAll;
       }
+    }
+  }
+  // Claims around every sample of a fitted feature curve.
+  void ClaimCurve(const FeatureCurve& c, double radius) {
+    const std::vector<Point2> p = SampleFeatureCurve(c, 8);
+    for (size_t i = 0; i < p.size(); ++i) {
+      const Point2 a = p[i > 0 ? i - 1 : i], b = p[i + 1 < p.size() ? i + 1 : i];
+      Claim(p[i], radius, c.width > 0 ? DirectionDeg(Sub(b, a)) : -1.0);
     }
   }
 
  private:
+  static constexpr uint8_t kFree = 255, kAll = 254;
+  uint8_t At(Point2 p) const {
+    const int x = int(std::floor(p.x)), y = int(std::floor(p.y));
+    return x >= 0 && y >= 0 && x < w_ && y < h_ ? dir_[size_t(y) * w_ + x] : kFree;
+  }
   int w_, h_;
-  std::vector<uint8_t> bits_;
+  std::vector<uint8_t> dir_;
 };
 
 // One candidate polyline: a fill outline, or one side of a stroke (offset along the normal).
@@ -379,17 +419,15 @@ void CompositeOverWhite(Raster& r) {
 // Edges of the reference that no outline feature explains (text librsvg draws as glyphs
 // it does not trace, patterns, images, filters, a trace cut short): the vectorizer's edge
 // detection on the fitted raster, without the domain contours, each curve cut where it
-// comes within kClaimRadius px (plus half a thin stroke) of an outline feature and the pieces of at least
-// min_length px refitted.
+// comes within kClaimRadius px (plus half a thin stroke) of an outline feature (ClaimMap:
+// not where it crosses a thin one) and the pieces of at least min_length px refitted.
 std::vector<FeatureCurve> UncoveredEdges(const Raster& fitted, const std::vector<FeatureCurve>& outline_features,
                                          const SvgArtworkOptions& o) {
   std::vector<FeatureCurve> out;
   StatusOr<std::vector<FeatureCurve>> detected = DetectFeatures(fitted, nullptr, o.vectorize.features);
   if (!detected.ok()) return out;
   ClaimMap claimed(fitted.width, fitted.height);
-  for (const FeatureCurve& c : outline_features) {
-    for (const Point2& p : SampleFeatureCurve(c, 8)) claimed.Claim(p, kClaimRadius + c.width / 2);
-  }
+  for (const FeatureCurve& c : outline_features) claimed.ClaimCurve(c, kClaimRadius + c.width / 2);
   BSplineFitOptions fit;
   fit.tolerance = o.vectorize.features.fit_tolerance;
   fit.max_spacing = o.vectorize.features.max_spacing;
@@ -399,7 +437,8 @@ std::vector<FeatureCurve> UncoveredEdges(const Raster& fitted, const std::vector
     std::vector<uint8_t> free(samples.size());
     bool all = true;
     for (size_t i = 0; i < samples.size(); ++i) {
-      free[i] = claimed.Claimed(samples[i]) ? 0 : 1;
+      const Point2 a = samples[i > 0 ? i - 1 : i], b = samples[i + 1 < samples.size() ? i + 1 : i];
+      free[i] = claimed.Claimed(samples[i], DirectionDeg(Sub(b, a))) ? 0 : 1;
       all = all && free[i];
     }
     if (all) {
@@ -582,6 +621,7 @@ std::vector<Side> ThinFillSides(const std::vector<std::vector<Sample>>& flat, co
 // run's first sample, or where consecutive centre samples are further apart than kThinJump.
 constexpr double kThinWidthStep = 0.75;
 constexpr double kThinJump = 1.5;
+constexpr uint8_t kBridge = 2;  // accept[] of a sample that bridges a crossing
 
 // The features of one side: samples accepted where the reference changes colour across them
 // and nothing above claims them, runs of them fitted (EmitRun), then claimed.
@@ -594,7 +634,8 @@ void AddSideFeatures(const Side& side, bool stroke_side, const Raster& reference
   for (size_t i = 0; i < n; ++i) {
     const Sample& s = side.samples[i];
     const double width = thin_fill ? side.widths[i] : side.width;
-    if ((thin_fill && width <= 0) || claimed->Claimed(s.p)) continue;
+    const double direction = DirectionDeg({s.normal.y, -s.normal.x});
+    if ((thin_fill && width <= 0) || claimed->Claimed(s.p, direction)) continue;
     const Point2 nrm = s.normal;
     if (width > 0) {
       // A thin structure: its centre against kProbe px beyond either outline; the larger step.
@@ -603,14 +644,41 @@ void AddSideFeatures(const Side& side, bool stroke_side, const Raster& reference
       const Point2 b{s.p.x - out_d * nrm.x, s.p.y - out_d * nrm.y};
       contrast[i] = std::max(Contrast(reference, a, s.p), Contrast(reference, b, s.p));
       accept[i] = contrast[i] >= o.min_contrast ? 1 : 0;
-      continue;
+    } else {
+      double out_d = kProbe, in_d = side.inner_probe;
+      const double dir = side.outward != 0 ? side.outward : 1.0;
+      const Point2 a{s.p.x + dir * out_d * nrm.x, s.p.y + dir * out_d * nrm.y};
+      const Point2 b{s.p.x - dir * in_d * nrm.x, s.p.y - dir * in_d * nrm.y};
+      contrast[i] = Contrast(reference, a, b);
+      accept[i] = contrast[i] >= o.min_contrast && !(stroke_side && s.corner) ? 1 : 0;
     }
-    double out_d = kProbe, in_d = side.inner_probe;
-    const double dir = side.outward != 0 ? side.outward : 1.0;
-    const Point2 a{s.p.x + dir * out_d * nrm.x, s.p.y + dir * out_d * nrm.y};
-    const Point2 b{s.p.x - dir * in_d * nrm.x, s.p.y - dir * in_d * nrm.y};
-    contrast[i] = Contrast(reference, a, b);
-    accept[i] = contrast[i] >= o.min_contrast && !(stroke_side && s.corner) ? 1 : 0;
+    // Where it crosses a feature above, the probes read that feature: the sample bridges the
+    // crossing (kept inside a run, never at its ends).
+    if (!accept[i] && !(stroke_side && s.corner) && claimed->Crossed(s.p, direction)) accept[i] = kBridge;
+  }
+  // A thin structure crossing another one (drawn above or below it, in any colour): where
+  // the probes lie on the other structure the step is lost for up to its width. A gap of at
+  // most kThinStroke px between accepted samples, along which something is drawn (the
+  // centre differs by min_contrast from the colour beyond both outlines next to the gap; a
+  // dash's gap shows the background), is bridged.
+  for (size_t i = 0; i < n && (thin_fill || side.width > 0); ++i) {
+    if (accept[i] != 1) continue;
+    size_t j = i + 1;
+    while (j < n && accept[j] == 0 && contrast[j] >= 0) ++j;
+    if (j >= n || accept[j] != 1 || j == i + 1) continue;
+    if (Norm(Sub(side.samples[j].p, side.samples[i].p)) > kThinStroke + 0.5 * o.sample_spacing) continue;
+    std::vector<Point2> beyond;  // the colour beyond both outlines at the gap's two ends
+    for (size_t e : {i, j}) {
+      const double out_d = (thin_fill ? side.widths[e] : side.width) / 2 + kProbe;
+      const Sample& s = side.samples[e];
+      beyond.push_back({s.p.x + out_d * s.normal.x, s.p.y + out_d * s.normal.y});
+      beyond.push_back({s.p.x - out_d * s.normal.x, s.p.y - out_d * s.normal.y});
+    }
+    bool drawn = true;
+    for (size_t k = i + 1; k < j && drawn; ++k)
+      for (const Point2& b : beyond) drawn = drawn && Contrast(reference, side.samples[k].p, b) >= o.min_contrast;
+    if (drawn)
+      for (size_t k = i + 1; k < j; ++k) accept[k] = kBridge;
   }
   // A thin fill's run is cut where its width steps or its centre jumps.
   auto cut = [&](size_t first, size_t prev, size_t i) {
@@ -622,7 +690,14 @@ void AddSideFeatures(const Side& side, bool stroke_side, const Raster& reference
   for (size_t i = 1; i <= n && all && side.closed && thin_fill; ++i) all = !cut(0, i - 1, i % n);
   std::vector<size_t> run;
   const size_t before = curves->size();
-  if (all && side.closed) {
+  auto emit_open = [&](std::vector<size_t> r) {  // without its bridging ends
+    while (!r.empty() && accept[r.back()] == kBridge) r.pop_back();
+    size_t lead = 0;
+    while (lead < r.size() && accept[r[lead]] == kBridge) ++lead;
+    r.erase(r.begin(), r.begin() + std::ptrdiff_t(lead));
+    if (!r.empty()) EmitRun(side, r, false, contrast, stroke_side, o, curves);
+  };
+  if (all && side.closed && std::find(accept.begin(), accept.end(), 1) != accept.end()) {
     for (size_t i = 0; i < n; ++i) run.push_back(i);
     EmitRun(side, run, true, contrast, stroke_side, o, curves);
   } else {
@@ -635,21 +710,18 @@ void AddSideFeatures(const Side& side, bool stroke_side, const Raster& reference
       const bool open_end = !side.closed && k == n;
       if (k < n && !open_end && accept[i] && (side.closed || i >= start)) {
         if (!run.empty() && cut(run.front(), run.back(), i)) {
-          EmitRun(side, run, false, contrast, stroke_side, o, curves);
+          emit_open(run);
           run.clear();
         }
         run.push_back(i);
         continue;
       }
-      if (!run.empty()) EmitRun(side, run, false, contrast, stroke_side, o, curves);
+      if (!run.empty()) emit_open(run);
       run.clear();
       if (!side.closed && k >= n) break;
     }
   }
-  for (size_t c = before; c < curves->size(); ++c) {
-    const double radius = kClaimRadius + (*curves)[c].width / 2;
-    for (const Point2& p : SampleFeatureCurve((*curves)[c], 8)) claimed->Claim(p, radius);
-  }
+  for (size_t c = before; c < curves->size(); ++c) claimed->ClaimCurve((*curves)[c], kClaimRadius + (*curves)[c].width / 2);
 }
 
 }  // namespace

@@ -193,9 +193,11 @@ struct SvgArtworkResult {
 
 // The features of the artwork mode: for each outline (top-most shape first) the samples
 // where the reference changes colour across it by min_contrast with both sides inside the
-// domain (alpha > 0.5), not already covered by a feature of a shape above; runs of them
-// longer than min_length fitted by B-splines within tolerance, kinks kept at segment joints
-// that turn by more than corner_angle_deg. Stroke outlines are the two sides of the stroke.
+// domain (alpha > 0.5), not already covered by a feature of a shape above (a thin one
+// covers only what runs along it: crossings stay, bridged where the contrast is lost,
+// spec/SVG.md section 4 "Crossings"); runs of them longer than min_length fitted by
+// B-splines within tolerance, kinks kept at segment joints that turn by more than
+// corner_angle_deg. Stroke outlines are the two sides of the stroke.
 std::vector<FeatureCurve> ArtworkFeatures(const std::vector<SvgShape>& shapes, const Raster& reference,
                                           const SvgArtworkOptions& options);
 
