@@ -9,9 +9,9 @@
 // times the encoding of each output in memory (ours: EncodePng, OpenCV: cv::imencode).
 //
 //   bench_render [--image PNG] [--sdvi FILE] [--out DIR] [--grid N] [--scale S] [--repeat K]
-//                [--reference IMG] [--oracle DIR] [--pairs N]
+//                [--reference IMG] [--oracle DIR] [--pairs N [--threads T]]
 //   (--pairs N: only bicubic and Render8 at the automatic level, N times in turn, the
-//   median ratio pair by pair: for a shared machine)
+//   median ratio pair by pair: for a shared machine; --threads: Render8's, 0 = all)
 //   (--oracle DIR holds camera.png and camera_noisy_seed5_sigma20.png; --reference is the
 //   truth at the output size, e.g. the photo --image was downscaled from: PSNR of bicubic
 //   and of the render against it)
@@ -178,7 +178,7 @@ int OracleCheck(const std::string& dir) {
 int main(int argc, char** argv) {
   std::string image_path = "/work/shared/data/photos/lena_512.png", out_dir = "out/bench/render", oracle, sdvi_path,
               reference_path;
-  int grid = 71, repeat = 3, pairs = 0;
+  int grid = 71, repeat = 3, pairs = 0, threads = 0;
   double scale = 8;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i], v = argv[i + 1];
@@ -191,6 +191,7 @@ int main(int argc, char** argv) {
     else if (k == "--sdvi") sdvi_path = v;
     else if (k == "--reference") reference_path = v;
     else if (k == "--pairs") pairs = std::max(1, std::atoi(v.c_str()));
+    else if (k == "--threads") threads = std::max(0, std::atoi(v.c_str()));
     else return std::fprintf(stderr, "unknown option %s\n", k.c_str()), 1;
   }
   if (!oracle.empty()) return OracleCheck(oracle);
@@ -222,7 +223,8 @@ int main(int argc, char** argv) {
   if (pairs > 0) {
     RenderOptions o;
     o.viewport = Viewport{W, H, scale, scale, 0, 0};
-    std::vector<double> t_bic, t_ours, ratio, c_ratio;
+    o.threads = threads;
+    std::vector<double> t_bic, t_ours, c_ours, ratio, c_ratio;
     for (int k = 0; k < pairs; ++k) {
       cv::Mat b;
       auto t0 = std::chrono::steady_clock::now();
@@ -235,16 +237,17 @@ int main(int argc, char** argv) {
       auto r = Render8(mesh, o);
       const double to = Seconds(t0), co = CpuSeconds() - c0;
       if (!r.ok()) return std::fprintf(stderr, "%s\n", r.status().ToString().c_str()), 1;
-      t_bic.push_back(tb), t_ours.push_back(to), ratio.push_back(to / tb), c_ratio.push_back(co / cb);
+      t_bic.push_back(tb), t_ours.push_back(to), c_ours.push_back(co), ratio.push_back(to / tb), c_ratio.push_back(co / cb);
     }
     auto row = [](const char* name, std::vector<double> v) {
       std::sort(v.begin(), v.end());
       std::printf("%-40s %9.3f %9.3f %9.3f\n", name, v[v.size() / 2], v.front(), v.back());
     };
-    std::printf("\n%d pairs, in turn: bicubic then Render8 at the automatic level (%d)\n%-40s %9s %9s %9s\n", pairs,
-                ChooseRenderLevels(mesh, o), "", "median", "min", "max");
+    std::printf("\n%d pairs, in turn: bicubic then Render8 at the automatic level (%d), %d threads (0: all)\n%-40s %9s %9s %9s\n",
+                pairs, ChooseRenderLevels(mesh, o), threads, "", "median", "min", "max");
     row("OpenCV bicubic wall s", t_bic);
     row("sdvi Render8 wall s", t_ours);
+    row("sdvi Render8 cpu s", c_ours);
     row("Render8 / bicubic, wall, pair by pair", ratio);
     row("Render8 / bicubic, cpu, pair by pair", c_ratio);
     return 0;
