@@ -61,6 +61,18 @@ Status ValidateValues(const Image& image, const std::string& source) {
   return Status::Ok();
 }
 
+}  // namespace sdvi::format_internal
+
+namespace sdvi {
+
+double FoldTolerance(const Image& image) {
+  return format_internal::kFoldTolerance + std::ldexp(double(std::max(image.width, image.height)), -22);
+}
+
+}  // namespace sdvi
+
+namespace sdvi::format_internal {
+
 Status ValidateTopology(const Image& image, const std::string& source) {
   const std::vector<Triangle>& tris = image.triangles;
   // The same vertex set twice, in any order or orientation.
@@ -81,7 +93,7 @@ Status ValidateTopology(const Image& image, const std::string& source) {
     }
   std::sort(records.begin(), records.end());
   // Float coordinates of a fitted mesh: a vertex may sit a rounding error across an edge.
-  const double tolerance = kFoldTolerance + std::ldexp(double(std::max(image.width, image.height)), -22);
+  const double tolerance = FoldTolerance(image);
   for (size_t i = 0; i < records.size();) {
     size_t j = i;
     while (j < records.size() && records[j].a == records[i].a && records[j].b == records[i].b) ++j;

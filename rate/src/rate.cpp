@@ -36,6 +36,7 @@ struct Candidate {
   Image refitted;  // quantised positions, colours refitted, not yet quantised (refit only)
   bool colors_refitted = false;  // file holds the refitted colours (else the vectorizer's)
   double psnr = 0;
+  int mended_vertices = 0;  // vertices moved off their nearest grid point to unfold triangles
   double Cost(double slope) const { return std::log(double(file.size())) - psnr / slope; }
 };
 
@@ -86,6 +87,7 @@ StatusOr<RateResult> CompressForRate(const VectorizeResult& vectorized, const Ra
   refit.threads = options.threads;
 
   // The file of an image at given bits and what it measures.
+  const auto folds = [](const Status& s) { return s.code() == StatusCode::kFoldedTriangle; };
   auto measure = [&](const Image& colors_from, const CompressOptions& compress, Candidate& c) -> Status {
     SDVI_ASSIGN_OR_RETURN(c.file, EncodeImage(colors_from, &compress));
     SDVI_ASSIGN_OR_RETURN(c.decoded, DecodeImage(c.file, "rate control"));
@@ -104,14 +106,23 @@ StatusOr<RateResult> CompressForRate(const VectorizeResult& vectorized, const Ra
     CompressOptions compress;
     compress.position_bits = position_bits;
     compress.color_bits = color_bits;
-    SDVI_RETURN_IF_ERROR(measure(image, compress, c));
+    // Positions that fold a triangle at these bits: the few vertices of the folds move to
+    // nearby grid points (spec/RATE.md 3) instead of every vertex getting a finer step.
+    const Image* positions = &image;
+    Image mended;
+    if (Status plain = measure(image, compress, c); !plain.ok()) {
+      if (!folds(plain)) return plain;
+      SDVI_ASSIGN_OR_RETURN(mended, SnapPositionsToGrid(image, position_bits, &c.mended_vertices));
+      positions = &mended;
+      SDVI_RETURN_IF_ERROR(measure(mended, compress, c));
+    }
     ++result.evaluations;
     if (!options.refit_colors) return c;
     Candidate r = c;
     if (same_positions != nullptr) {
       r.refitted = same_positions->refitted;
     } else {
-      SDVI_ASSIGN_OR_RETURN(r.refitted, QuantisedPositions(image, compress));
+      SDVI_ASSIGN_OR_RETURN(r.refitted, QuantisedPositions(*positions, compress));
       SDVI_RETURN_IF_ERROR(FitColors(r.refitted, source, mask, refit).status());
     }
     SDVI_RETURN_IF_ERROR(measure(r.refitted, compress, r));
@@ -121,9 +132,8 @@ StatusOr<RateResult> CompressForRate(const VectorizeResult& vectorized, const Ra
     return c;
   };
 
-  // Bits whose quantised positions fold a triangle give no file (EncodeImage refuses them):
+  // Bits whose quantised positions fold a triangle that mending cannot unfold give no file:
   // the start rises until it encodes, the descent stops there.
-  const auto folds = [](const Status& s) { return s.code() == StatusCode::kFoldedTriangle; };
   int position_bits = DefaultPositionBits(image, fit_mse);
   const int color_bits = DefaultColorBits(image, fit_mse);
   StatusOr<Candidate> start = evaluate(position_bits, color_bits, nullptr);
@@ -152,6 +162,7 @@ StatusOr<RateResult> CompressForRate(const VectorizeResult& vectorized, const Ra
   result.position_bits = best.position_bits;
   result.color_bits = best.color_bits;
   result.colors_refitted = best.colors_refitted;
+  result.mended_vertices = best.mended_vertices;
   return result;
 }
 

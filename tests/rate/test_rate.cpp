@@ -154,8 +154,13 @@ TEST_CASE("the RD search never ends at a higher Lagrangian cost than its start",
   chosen.position_bits = best->position_bits;
   chosen.color_bits = best->color_bits;
   sdvi::Image image = v.image;
+  if (best->mended_vertices > 0) {  // plain rounding folds at these bits: the mended grid
+    auto mended = sdvi::SnapPositionsToGrid(v.image, chosen.position_bits);
+    REQUIRE(mended.ok());
+    image = *mended;
+  }
   if (best->colors_refitted) {
-    image = QuantisedRefit(v.image, source, chosen);
+    image = QuantisedRefit(image, source, chosen);
   }
   auto expected = sdvi::EncodeImage(image, &chosen);
   REQUIRE(expected.ok());
@@ -335,4 +340,69 @@ TEST_CASE("colours refitted on the quantised positions: at equal bits the file's
   auto threaded = sdvi::CompressForRate(v, source, nullptr, {}, on);
   REQUIRE(threaded.ok());
   CHECK(threaded->file == with->file);
+}
+
+TEST_CASE("a sliver that folds at the start's bits is mended there: the whole mesh keeps its bits", "[rate]") {
+  // A 64 x 64 square: a long edge A-B across the middle, a sliver (A, B, P) above it with P
+  // a fraction of a step above the edge, the rest fanned to the corners; colours vary so
+  // the file has something to measure.
+  auto sliver = [](float ay, float by, float p_above) {
+    sdvi::Image image;
+    image.width = image.height = 64;
+    const float xy[7][2] = {{0, 0}, {64, 0}, {64, 64}, {0, 64}, {8, ay}, {56, by}, {32, 0.5f * (ay + by) + p_above}};
+    for (const auto& p : xy) {
+      sdvi::Vertex v;
+      v.x = p[0];
+      v.y = p[1];
+      v.r = 2 * p[0];
+      v.g = 2 * p[1];
+      v.b = 60;
+      image.vertices.push_back(v);
+    }
+    image.triangles = {{{0, 1, 5}}, {{0, 5, 4}}, {{0, 4, 3}}, {{1, 2, 5}},
+                       {{4, 5, 6}}, {{4, 6, 3}}, {{6, 5, 2}}, {{6, 2, 3}}};
+    return image;
+  };
+  sdvi::VectorizeResult v;
+  v.report.psnr = 30;  // the start: a coarse position step (DefaultPositionBits of this MSE)
+  const double mse = Mse(v.report.psnr);
+  const int bits = sdvi::DefaultPositionBits(sliver(32, 32, 0), mse);
+  const float step = 64.f / float((1 << bits) - 1);
+  auto folds = [&](const sdvi::Image& image, int b) {
+    sdvi::CompressOptions options;
+    options.position_bits = b;
+    auto file = sdvi::EncodeImage(image, &options);
+    return !file.ok() && file.status().code() == sdvi::StatusCode::kFoldedTriangle;
+  };
+  bool found = false;
+  for (int i = 0; i < 40 && !found; ++i)
+    for (int j = 0; j < 40 && !found; ++j) {
+      v.image = sliver(30 + 0.025f * float(i) * step, 30 + 0.025f * float(j) * step, 0.1f * step);
+      found = folds(v.image, bits);
+    }
+  REQUIRE(found);
+  REQUIRE(sdvi::DefaultPositionBits(v.image, mse) == bits);
+  sdvi::RenderOptions render;
+  render.viewport = sdvi::Viewport::Identity(64, 64);
+  auto source = sdvi::Render(v.image, render);
+  REQUIRE(source.ok());
+
+  sdvi::RateOptions start;
+  start.search_bits = false;
+  auto r = sdvi::CompressForRate(v, *source, nullptr, {}, start);
+  REQUIRE(r.ok());
+  CHECK(r->position_bits == bits);  // before the mend: raised until plain rounding unfolds
+  CHECK(r->mended_vertices >= 1);
+  CHECK(r->mended_vertices <= 2);
+  auto decoded = sdvi::DecodeImage(r->file, "mended");
+  REQUIRE(decoded.ok());
+  CHECK(*decoded == r->decoded);
+  CHECK(sdvi::ValidateImage(*decoded, "mended").ok());
+  int plain_bits = bits;
+  while (folds(v.image, plain_bits)) ++plain_bits;
+  CHECK(plain_bits > bits);
+  // Deterministic.
+  auto again = sdvi::CompressForRate(v, *source, nullptr, {}, start);
+  REQUIRE(again.ok());
+  CHECK(again->file == r->file);
 }

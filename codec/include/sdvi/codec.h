@@ -84,6 +84,22 @@ struct ErrorBound {
 };
 ErrorBound CompressionErrorBound(const Image& image, int position_bits, int color_bits);
 
+// Positions on the grid of a payload at position_bits, with the defects that rounding makes
+// mended locally (spec/RATE.md section 3). The grid is Draco's: per component
+// min + q * range / (2^bits - 1), computed in float as its decoder does, so encoding the
+// result at these bits codes exactly these positions (min and range unchanged). Each vertex
+// goes to its nearest grid point, as the codec would round it. The defects: an edge that
+// folds (ValidateImage's rule, FoldTolerance) and a triangle whose area collapses to zero or
+// reverses (where the unquantised mesh's is positive in its orientation). While there are
+// some (a few rounds at most), one vertex of a defect moves to another grid point at most
+// kMendRadius steps from its own (a vertex on the lowest or highest grid line of a component
+// keeps that coordinate): the move that removes the most defects around it, nearest to the
+// unquantised position on ties. *moved: the vertices not at their nearest grid point.
+// kFoldedTriangle when defects remain, kInvalidArgument for bits outside
+// 1..kMaxQuantizationBits; colours and topology untouched.
+inline constexpr int kMendRadius = 2;
+StatusOr<Image> SnapPositionsToGrid(const Image& image, int position_bits, int* moved = nullptr);
+
 // Encodes the control mesh and tags of image. If new_index_of_vertex is given it
 // receives, for every original vertex i, its index in the decoded image (the identity
 // when the vertex order is kept). Fails with kInvalidArgument for bad options,

@@ -116,6 +116,12 @@ Status WriteSdvi(const std::string& path, const Image& image);
 // pairs naming existing polylines with sharpness in [0,1].
 Status ValidateImage(const Image& image, const std::string& source_name);
 
+// The distance (pixels) past which ValidateImage counts the vertex opposite an edge as
+// across it (kFoldedTriangle: both opposite vertices of an edge farther than this on the
+// same side; spec/FORMAT.md section 9, check 24): 1/1024 px plus float rounding at the
+// image's scale.
+double FoldTolerance(const Image& image);
+
 // Returns image in canonical form (see the top of this file): triangles partitioned and
 // rotated, crease_edges and corners sorted and unique. Other fields unchanged.
 Image CanonicalizeImage(const Image& image);

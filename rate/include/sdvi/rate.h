@@ -51,6 +51,7 @@ struct RateResult {
   double psnr = 0;            // FileQualityPsnr of decoded
   int position_bits = 0, color_bits = 0;
   bool colors_refitted = false;  // the file holds colours refitted on its positions
+  int mended_vertices = 0;     // vertices moved off their nearest grid point to unfold triangles
   double slope_db = 0;        // s used
   int evaluations = 0;        // candidates measured
 };
