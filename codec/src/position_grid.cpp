@@ -214,11 +214,12 @@ StatusOr<Image> SnapPositionsToGrid(const Image& image, int position_bits, int* 
         if (before == 0) continue;  // mended by an earlier move
         Vertex& p = out.vertices[v];
         const Vertex kept = p;
-        const bool fixed[2] = {q[v][0] == lo[0] || q[v][0] == hi[0], q[v][1] == lo[1] || q[v][1] == hi[1]};
+        const std::array<int32_t, 2>& home = nearest[v];
+        const bool fixed[2] = {home[0] == lo[0] || home[0] == hi[0], home[1] == lo[1] || home[1] == hi[1]};
         for (int dy = -kMendRadius; dy <= kMendRadius; ++dy)
           for (int dx = -kMendRadius; dx <= kMendRadius; ++dx) {
-            const std::array<int32_t, 2> c = {q[v][0] + dx, q[v][1] + dy};
-            if ((dx == 0 && dy == 0) || (fixed[0] && dx != 0) || (fixed[1] && dy != 0)) continue;
+            const std::array<int32_t, 2> c = {home[0] + dx, home[1] + dy};
+            if (c == q[v] || (fixed[0] && dx != 0) || (fixed[1] && dy != 0)) continue;
             if (c[0] < lo[0] || c[0] > hi[0] || c[1] < lo[1] || c[1] > hi[1]) continue;
             p.x = grid.Position(c[0], 0);
             p.y = grid.Position(c[1], 1);

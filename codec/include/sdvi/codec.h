@@ -92,8 +92,8 @@ ErrorBound CompressionErrorBound(const Image& image, int position_bits, int colo
 // folds (ValidateImage's rule, FoldTolerance) and a triangle whose area collapses to zero or
 // reverses (where the unquantised mesh's is positive in its orientation). While there are
 // some (a few rounds at most), one vertex of a defect moves to another grid point at most
-// kMendRadius steps from its own (a vertex on the lowest or highest grid line of a component
-// keeps that coordinate): the move that removes the most defects around it, nearest to the
+// kMendRadius steps from its nearest one (a vertex whose nearest grid point is on the lowest
+// or highest grid line of a component keeps that coordinate): the move that removes the most defects around it, nearest to the
 // unquantised position on ties. *moved: the vertices not at their nearest grid point.
 // kFoldedTriangle when defects remain, kInvalidArgument for bits outside
 // 1..kMaxQuantizationBits; colours and topology untouched.
