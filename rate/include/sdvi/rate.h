@@ -10,7 +10,9 @@
 // RateOptions::slope_db. Starting from the conservative steps (1% of the fit's MSE,
 // DefaultPositionBits / DefaultColorBits), position bits and then colour bits are lowered
 // one at a time while J falls. Every candidate is measured, not modelled: encode, decode,
-// (refit colours), render at x1, PSNR.
+// (refit colours), render at x1, PSNR. Positions that fold a triangle at a candidate's bits
+// are mended on the codec's grid (SnapPositionsToGrid: a few vertices move to nearby grid
+// points) rather than given more bits (spec/RATE.md 3).
 //
 // Colours refitted on quantised positions. The colour fit is linear least squares for fixed
 // positions, so after the positions are quantised the colours can be fitted again on the
