@@ -26,7 +26,7 @@ command -v ccache >/dev/null 2>&1 && LAUNCHER=(-DCMAKE_CXX_COMPILER_LAUNCHER=cca
 cmake -S . -B "$DIR" -G Ninja -DCMAKE_BUILD_TYPE=Sanitize "${LAUNCHER[@]}" \
   -DCMAKE_C_FLAGS_SANITIZE="-O1 -g1 $SAN" -DCMAKE_CXX_FLAGS_SANITIZE="-O1 -g1 $SAN" \
   -DCMAKE_EXE_LINKER_FLAGS_SANITIZE="$SAN" -DCMAKE_SHARED_LINKER_FLAGS_SANITIZE="$SAN" \
-  -DSDVI_BUILD_BENCH=OFF -DSDVI_BUILD_PYTHON=OFF -DSDVI_FUZZ_TESTS=OFF >/dev/null
+  -DSDVI_BUILD_BENCH=OFF -DSDVI_RASTER_MODULE=OFF -DSDVI_BUILD_PYTHON=OFF -DSDVI_FUZZ_TESTS=OFF >/dev/null
 targets=()
 for t in $TESTS; do targets+=("sdvi_${t}_tests"); done
 cmake --build "$DIR" -j"$(nproc)" --target "${targets[@]}"

@@ -29,6 +29,7 @@ namespace {
 using raster_internal::OiioModule;
 using raster_internal::kOiioModuleAbi;
 
+#ifndef SDVI_RASTER_OIIO_LINKED
 constexpr const char* kOiioModuleFile = "libsdvi_raster_oiio.so";
 
 // Opens the module: $SDVI_MODULE_DIR, then the install layout next to the binary that holds
@@ -64,12 +65,20 @@ const OiioModule* OpenOiioModule(std::string* why) {
   return nullptr;
 }
 
-// The module, opened once per process.
+#endif
+
+// The module, opened once per process (or linked in: SDVI_RASTER_MODULE off).
 StatusOr<const OiioModule*> Oiio(StatusCode code, const std::string& name) {
+#ifdef SDVI_RASTER_OIIO_LINKED
+  (void)code;
+  (void)name;
+  return sdvi_raster_oiio_module();
+#else
   static std::string why;
   static const OiioModule* const module = OpenOiioModule(&why);
   if (!module) return Status(code, name + ": raster support is not available: " + why);
   return module;
+#endif
 }
 
 constexpr uint64_t kMaxPixels = uint64_t(1) << 28;  // 16384 x 16384
