@@ -88,7 +88,10 @@ Selection ParseSelection(const Json& j, const std::string& path) {
   }
   if (!j.is_object() || j.size() != 1)
     Fail(path, "expected \"all\" or an object with one of vertices, polyline, pair, region");
-  const auto& [key, value] = *j.items().begin();
+  // The one member (items() would hand out a reference into a temporary iterator).
+  const auto member = j.begin();
+  const std::string key = member.key();
+  const Json& value = member.value();
   const std::string sub = path + "." + key;
   if (key == "vertices") {
     s.kind = Selection::Kind::kVertices;
