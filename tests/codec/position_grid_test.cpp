@@ -85,7 +85,7 @@ Image Sliver(float ay, float by, float p_above) {
 }  // namespace
 
 TEST_CASE("SnapPositionsToGrid without folds puts every vertex where the reader decodes it", "[codec][grid]") {
-  const Image image = sdvi::testing::SyntheticGridImage(64, 64, 81, 81);
+  const Image image = sdvi::testing::SyntheticGridImage(64, 64, 65, 65);
   for (int bits : {12, 16}) {
     REQUIRE(!Folds(image, bits));
     int moved = -1;
@@ -156,7 +156,7 @@ TEST_CASE("a sliver that folds at the chosen bits is mended by moving one vertex
 }
 
 TEST_CASE("a dense jittered grid is mended at bits where plain rounding folds it", "[codec][grid][slow]") {
-  const Image image = sdvi::testing::SyntheticGridImage(64, 64, 81, 81);
+  const Image image = sdvi::testing::SyntheticGridImage(64, 64, 65, 65);
   int mended_bits = 0, plain_free = 0;
   for (int bits = 4; bits <= 16 && plain_free == 0; ++bits) {
     if (!Folds(image, bits)) {
