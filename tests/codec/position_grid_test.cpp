@@ -85,7 +85,7 @@ Image Sliver(float ay, float by, float p_above) {
 }  // namespace
 
 TEST_CASE("SnapPositionsToGrid without folds puts every vertex where the reader decodes it", "[codec][grid]") {
-  const Image image = sdvi::testing::SyntheticGridImage(64, 64, 65, 65);
+  const Image image = sdvi::testing::SyntheticGridImage(64, 48, 9, 7);
   for (int bits : {12, 16}) {
     REQUIRE(!Folds(image, bits));
     int moved = -1;
