@@ -170,7 +170,7 @@ TEST_CASE("export-svg leaves the outside of an object image empty", "[svg_export
   }
 }
 
-TEST_CASE("export-svg rejects bad input with specific codes", "[svg_export]") {
+TEST_CASE("export-svg rejects bad input with specific codes", "[svg_export][slow]") {
   sdvi::Image image = sdvi::pdf_test::Gradient(96, 64);
   sdvi::SvgExportOptions options;
   options.levels = sdvi::kMaxSvgLevels + 1;
