@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "sdvi/codec.h"
+#include "sliver_mesh.h"
 #include "synthetic_mesh.h"
 
 using sdvi::CompressOptions;
@@ -62,26 +63,6 @@ bool Folds(const Image& image, int bits) {
   return true;
 }
 
-// A 64 x 64 square: a long edge A-B across the middle, below it one triangle, above it a
-// sliver (A, B, P) with P a fraction of a pixel above the edge at its midpoint; the rest
-// fans to the corners. Triangles counter-clockwise in (x, y).
-Image Sliver(float ay, float by, float p_above) {
-  Image image;
-  image.width = image.height = 64;
-  const float xy[7][2] = {{0, 0}, {64, 0}, {64, 64}, {0, 64}, {8, ay}, {56, by}, {32, 0.5f * (ay + by) + p_above}};
-  for (const auto& p : xy) {
-    sdvi::Vertex v;
-    v.x = p[0];
-    v.y = p[1];
-    v.r = v.g = v.b = 100;
-    image.vertices.push_back(v);
-  }
-  image.triangles = {{{0, 1, 5}}, {{0, 5, 4}}, {{0, 4, 3}}, {{1, 2, 5}},
-                     {{4, 5, 6}}, {{4, 6, 3}}, {{6, 5, 2}}, {{6, 2, 3}}};
-  REQUIRE(sdvi::ValidateImage(image, "sliver").ok());
-  return image;
-}
-
 }  // namespace
 
 TEST_CASE("SnapPositionsToGrid without folds puts every vertex where the reader decodes it", "[codec][grid]") {
@@ -109,15 +90,12 @@ TEST_CASE("SnapPositionsToGrid without folds puts every vertex where the reader 
 TEST_CASE("a sliver that folds at the chosen bits is mended by moving one vertex, not by more bits", "[codec][grid]") {
   constexpr int kBits = 8;  // step 64 / 255 px
   const float step = 64.f / 255.f;
-  // Find (deterministically) a sliver whose edge ends round up and apex rounds down, so that
-  // plain rounding to the 8-bit grid folds it.
-  std::optional<Image> sliver;
-  for (int i = 0; i < 40 && !sliver; ++i)
-    for (int j = 0; j < 40 && !sliver; ++j) {
-      Image candidate = Sliver(30 + 0.025f * float(i) * step, 30 + 0.025f * float(j) * step, 0.1f * step);
-      if (Folds(candidate, kBits)) sliver = candidate;
-    }
+  // A sliver whose edge ends round up and apex rounds down, so that plain rounding to the
+  // 8-bit grid folds it.
+  const std::optional<Image> sliver =
+      sdvi::testing::FindFoldingSliver(step, [](const Image& candidate) { return Folds(candidate, kBits); });
   REQUIRE(sliver);
+  REQUIRE(sdvi::ValidateImage(*sliver, "sliver").ok());
   // Plain rounding needs more bits for the whole mesh.
   int plain_bits = kBits;
   while (Folds(*sliver, plain_bits)) ++plain_bits;

@@ -14,6 +14,7 @@
 #include "sdvi/raster_io.h"
 #include "sdvi/render.h"
 #include "sdvi/vectorize.h"
+#include "sliver_mesh.h"
 
 namespace {
 
@@ -343,30 +344,11 @@ TEST_CASE("colours refitted on the quantised positions: at equal bits the file's
 }
 
 TEST_CASE("a sliver that folds at the start's bits is mended there: the whole mesh keeps its bits", "[rate]") {
-  // A 64 x 64 square: a long edge A-B across the middle, a sliver (A, B, P) above it with P
-  // a fraction of a step above the edge, the rest fanned to the corners; colours vary so
-  // the file has something to measure.
-  auto sliver = [](float ay, float by, float p_above) {
-    sdvi::Image image;
-    image.width = image.height = 64;
-    const float xy[7][2] = {{0, 0}, {64, 0}, {64, 64}, {0, 64}, {8, ay}, {56, by}, {32, 0.5f * (ay + by) + p_above}};
-    for (const auto& p : xy) {
-      sdvi::Vertex v;
-      v.x = p[0];
-      v.y = p[1];
-      v.r = 2 * p[0];
-      v.g = 2 * p[1];
-      v.b = 60;
-      image.vertices.push_back(v);
-    }
-    image.triangles = {{{0, 1, 5}}, {{0, 5, 4}}, {{0, 4, 3}}, {{1, 2, 5}},
-                       {{4, 5, 6}}, {{4, 6, 3}}, {{6, 5, 2}}, {{6, 2, 3}}};
-    return image;
-  };
+  // The sliver mesh of tests/support/sliver_mesh.h, at a step where it folds.
   sdvi::VectorizeResult v;
   v.report.psnr = 30;  // the start: a coarse position step (DefaultPositionBits of this MSE)
   const double mse = Mse(v.report.psnr);
-  const int bits = sdvi::DefaultPositionBits(sliver(32, 32, 0), mse);
+  const int bits = sdvi::DefaultPositionBits(sdvi::testing::SliverImage(32, 32, 0), mse);
   const float step = 64.f / float((1 << bits) - 1);
   auto folds = [&](const sdvi::Image& image, int b) {
     sdvi::CompressOptions options;
@@ -374,13 +356,9 @@ TEST_CASE("a sliver that folds at the start's bits is mended there: the whole me
     auto file = sdvi::EncodeImage(image, &options);
     return !file.ok() && file.status().code() == sdvi::StatusCode::kFoldedTriangle;
   };
-  bool found = false;
-  for (int i = 0; i < 40 && !found; ++i)
-    for (int j = 0; j < 40 && !found; ++j) {
-      v.image = sliver(30 + 0.025f * float(i) * step, 30 + 0.025f * float(j) * step, 0.1f * step);
-      found = folds(v.image, bits);
-    }
+  auto found = sdvi::testing::FindFoldingSliver(step, [&](const sdvi::Image& image) { return folds(image, bits); });
   REQUIRE(found);
+  v.image = *found;
   REQUIRE(sdvi::DefaultPositionBits(v.image, mse) == bits);
   sdvi::RenderOptions render;
   render.viewport = sdvi::Viewport::Identity(64, 64);

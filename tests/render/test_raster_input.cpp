@@ -46,6 +46,7 @@ void PutBig32(std::vector<uint8_t>& out, uint32_t v) {
 // A PNG chunk (length, type, data, CRC over type + data).
 std::vector<uint8_t> PngChunk(const char* type, const std::vector<uint8_t>& data) {
   std::vector<uint8_t> chunk;
+  chunk.reserve(12 + data.size());
   PutBig32(chunk, uint32_t(data.size()));
   chunk.insert(chunk.end(), type, type + 4);
   chunk.insert(chunk.end(), data.begin(), data.end());
@@ -182,6 +183,7 @@ TEST_CASE("An embedded ICC profile (P3, gamma 2.2) is converted to sRGB", "[rast
   uLongf size = uLongf(compressed.size());
   REQUIRE(compress2(compressed.data(), &size, profile.data(), uLong(profile.size()), 9) == Z_OK);
   std::vector<uint8_t> iccp = {'P', '3', 0, 0};
+  iccp.reserve(4 + size);
   iccp.insert(iccp.end(), compressed.begin(), compressed.begin() + size);
   const std::vector<uint8_t> chunk = PngChunk("iCCP", iccp);
   png.insert(png.begin() + 33, chunk.begin(), chunk.end());
@@ -219,8 +221,9 @@ TEST_CASE("An unusable ICC profile is a warning, the samples taken as sRGB", "[r
   // APP2 "ICC_PROFILE\0", chunk 1 of 1, then bytes that are no ICC profile (libjpeg does not
   // check them; libpng would have dropped such a profile from a PNG itself).
   const std::string junk = "not an ICC profile at all, just some text";
-  std::vector<uint8_t> app2 = {0xFF, 0xE2, 0, 0};
   const std::string tag = std::string("ICC_PROFILE") + '\0';
+  std::vector<uint8_t> app2 = {0xFF, 0xE2, 0, 0};
+  app2.reserve(4 + tag.size() + 2 + junk.size());
   app2.insert(app2.end(), tag.begin(), tag.end());
   app2.push_back(1), app2.push_back(1);
   app2.insert(app2.end(), junk.begin(), junk.end());
@@ -338,6 +341,7 @@ TEST_CASE("Radiance HDR input: RGBE decoded, linear -> sRGB, above 1 clipped", "
   // (0.5, 0.25, 0.125): mantissas 128, 64, 32, exponent 0 -> 128. (2, 2, 2): 128, e = 2 -> 130.
   // (0.0625, 0.0625, 0): 128 with e = -3 -> 125.
   const uint8_t pixels[3][4] = {{128, 64, 32, 128}, {128, 128, 128, 130}, {128, 128, 0, 125}};
+  bytes.reserve(header.size() + sizeof(pixels));
   for (const auto& p : pixels) bytes.insert(bytes.end(), p, p + 4);
   RasterSource source;
   auto out = DecodeRaster(bytes, "light.hdr", &source);
