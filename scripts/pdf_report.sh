@@ -3,8 +3,9 @@
 # The PDF export measured on real images (issue 12's table): each image is vectorized
 # (cached in OUT), exported with `sdvi export-pdf` (defaults), checked with qpdf, drawn by
 # pdftoppm (poppler, over white), pdftocairo -transp (poppler's cairo backend, RGBA), MuPDF
-# (mutool, RGBA) and pdf.js in headless Chromium (scripts/pdf_viewer.mjs, RGBA; when
-# scripts/npm has pdfjs-dist) at the image's size (x1) and at x4, and each drawing is compared
+# (mutool, RGBA) and pdf.js in headless Chromium (scripts/pdf_viewer.mjs, RGBA, its default
+# canvas path and its WebGPU path; when scripts/npm has pdfjs-dist) at the image's size (x1)
+# and at x4, and each drawing is compared
 # with `sdvi render` at the same size (tests/pdf/pdf_fixture.cpp `compare`: PSNR over the
 # pixels both draw opaque; alpha mismatches away from the domain's edge; the largest alpha
 # painted outside the domain). x4 of images over 512 x 512 compares the central
@@ -70,18 +71,23 @@ for img in "${images[@]}"; do
     pdftocairo -png -singlefile -transp -r $dpi -x $x -y $y -W $cw -H $ch "$pdf" "${base}_pdftocairo"
     mutool run "$root/scripts/pdf_mutool_region.js" "$pdf" $scale $x $y $cw $ch "${base}_mutool.png" 2>/dev/null
     viewers=(pdftoppm pdftocairo mutool)
-    if [ $have_pdfjs = 1 ] &&
-       node "$root/scripts/pdf_viewer.mjs" --scale $scale --region $x,$y,$cw,$ch "$pdf" -o "${base}_pdfjs.png" >/dev/null; then
-      viewers+=(pdfjs)
-    fi
+    for path_ in pdfjs pdfjs_webgpu; do
+      flag=$([ $path_ = pdfjs ] || echo --webgpu)
+      if [ $have_pdfjs = 1 ] && node "$root/scripts/pdf_viewer.mjs" $flag --scale $scale --region $x,$y,$cw,$ch \
+                                  "$pdf" -o "${base}_$path_.png" >/dev/null; then
+        viewers+=($path_)
+      else
+        viewers+=(none)
+      fi
+    done
     cells=""
     alpha=""
     for viewer in "${viewers[@]}"; do
+      if [ $viewer = none ]; then cells+=" - |"; continue; fi
       r=$("$fixture" compare "${base}_$viewer.png" "${base}_sdvi.png")
       cells+=" $(printf '%.2f' "$(json "$r" psnr)") |"
       [ $viewer = pdftoppm ] || alpha+="$viewer $(json "$r" far_mismatch)/$(json "$r" outside_alpha | sed 's/0\.000000/0/') "
     done
-    [ ${#viewers[@]} = 4 ] || cells+=" - |"
     rows+=("| $name | ${w}x$h | x$scale ($what) |$cells $alpha| $(stat -c %s "$pdf") | $wall_s / $user_s | $check |")
   done
 done
@@ -89,8 +95,8 @@ done
 echo "PDF export vs \`sdvi render\` (PSNR in dB over pixels both draw opaque; alpha: pixels away from"
 echo "the domain's edge whose alpha differs by > 0.5 / largest alpha painted outside the domain):"
 echo
-echo "| image | size | scale | pdftoppm | pdftocairo | mutool | pdf.js | alpha far-mismatch/outside | PDF bytes | export s wall / CPU (CLI) | qpdf --check |"
-echo "|---|---|---|---|---|---|---|---|---|---|---|"
+echo "| image | size | scale | pdftoppm | pdftocairo | mutool | pdf.js | pdf.js WebGPU | alpha far-mismatch/outside | PDF bytes | export s wall / CPU (CLI) | qpdf --check |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
 printf '%s\n' "${rows[@]}"
 echo
 echo "Size and in-process write time against cairo's mesh pattern (ShadingType 7) of the same surface;"

@@ -4,7 +4,7 @@
 // playwright-core, for the PDF tests and scripts/pdf_report.sh. Files are served from a
 // localhost HTTP server started here; nothing touches the network.
 //
-//   node scripts/pdf_viewer.mjs [--scale S] [--region x,y,w,h] IN.pdf -o OUT.png
+//   node scripts/pdf_viewer.mjs [--webgpu] [--scale S] [--region x,y,w,h] IN.pdf -o OUT.png
 //        [[--scale S2] [--region ...] IN2.pdf -o OUT2.png ...] [--chromium PATH]
 //
 // Each input is followed by its output path; one browser draws them all in turn. --scale
@@ -13,13 +13,21 @@
 // whole pixels. Page 1 is drawn on a transparent canvas (alpha 0 where nothing is painted)
 // and saved as an RGBA PNG. Prints one JSON line per file (size, times). Exit status: 0
 // done, 1 the viewer failed, 2 usage, 77 when node modules or Chromium are missing.
+//
+// --webgpu draws mesh shadings with pdf.js's WebGPU path (getDocument's enableWebGPU, on
+// SwiftShader's Vulkan adapter) instead of its default canvas path, which samples each
+// triangle at the corners of its pixels (drawTriangle in pdf.js's pattern_helper), half a
+// pixel of its 1.1x scratch canvas off where poppler, MuPDF and `sdvi render` sample
+// (spec/PDF.md, "Viewers"). A job fails when Chromium offers no WebGPU adapter.
 import path from 'node:path';
 import { checkScaleRegion, loadPlaywright, npmDir, parseJobs, runViewer, scaleRegionOptions, usageFor }
   from './viewer_common.mjs';
 
-const usage = usageFor('pdf_viewer', '[--scale S] [--region x,y,w,h] IN.pdf -o OUT.png ' +
+const webgpu = process.argv.includes('--webgpu');
+const usage = usageFor('pdf_viewer', '[--webgpu] [--scale S] [--region x,y,w,h] IN.pdf -o OUT.png ' +
                        '[[--scale ...] IN2.pdf -o OUT2.png ...] [--chromium PATH]');
-const { chromium, jobs } = parseJobs(process.argv.slice(2), usage, scaleRegionOptions);
+const { chromium, jobs } = parseJobs(process.argv.slice(2).filter((a) => a !== '--webgpu'), usage,
+                                     scaleRegionOptions);
 checkScaleRegion(jobs, usage);
 const playwright = loadPlaywright('pdf_viewer', chromium, ['pdfjs-dist/build/pdf.mjs', 'pdfjs-dist/build/pdf.worker.mjs']);
 
@@ -32,9 +40,12 @@ import * as pdfjs from '/pdfjs/build/pdf.mjs';
 pdfjs.GlobalWorkerOptions.workerSrc = '/pdfjs/build/pdf.worker.mjs';
 const scale = ${job.scale}, region = ${JSON.stringify(job.region ?? null)};
 try {
+  if (${webgpu} && !(navigator.gpu && await navigator.gpu.requestAdapter())) {
+    throw new Error('--webgpu: Chromium offers no WebGPU adapter');
+  }
   const t0 = performance.now();
   const doc = await pdfjs.getDocument({ url: ${JSON.stringify(`/file/${index}/${path.basename(job.input)}`)},
-                                        isEvalSupported: false }).promise;
+                                        isEvalSupported: false, enableWebGPU: ${webgpu} }).promise;
   const pdfPage = await doc.getPage(1);
   const viewport = pdfPage.getViewport({ scale });
   const t1 = performance.now();
@@ -57,7 +68,10 @@ try {
 await runViewer({
   name: 'pdf_viewer', what: 'pdf.js', playwright, chromium, jobs, page,
   staticDirs: { pdfjs: path.join(npmDir, 'node_modules', 'pdfjs-dist') },
+  gpu: webgpu,
+  chromiumArgs: webgpu ? ['--enable-unsafe-webgpu', '--enable-features=Vulkan', '--use-vulkan=swiftshader',
+                          '--use-webgpu-adapter=swiftshader', '--use-angle=swiftshader'] : [],
   report: (job, result) => ({ file: job.input, out: job.out, width: result.width, height: result.height,
                               scale: job.scale, load_ms: Math.round(result.load_ms),
-                              render_ms: Math.round(result.render_ms) }),
+                              render_ms: Math.round(result.render_ms), webgpu }),
 });

@@ -102,8 +102,10 @@ function serveFile(res, file) {
 //   /PREFIX/...             the files under staticDirs[PREFIX] (a folder of node_modules)
 // Each job's PNG (result.png, a data URL) is written atomically to job.out and
 // report(job, result) printed as one JSON line. `beforeJob(tab, job)` may size the tab.
+// Chromium runs with --disable-gpu unless `gpu` is set (then `chromiumArgs` name the software
+// adapter, e.g. SwiftShader's Vulkan for WebGPU).
 export async function runViewer({ name, what, playwright, chromium, jobs, page, staticDirs = {},
-                                  extraFiles = () => [], chromiumArgs = [], timeoutMs = 300000,
+                                  extraFiles = () => [], chromiumArgs = [], gpu = false, timeoutMs = 300000,
                                   beforeJob = async () => {}, report }) {
   const server = http.createServer((req, res) => {
     const url = new URL(req.url, 'http://localhost');
@@ -144,7 +146,7 @@ export async function runViewer({ name, what, playwright, chromium, jobs, page, 
       executablePath: chromium,
       headless: true,
       deviceScaleFactor: 1,
-      args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+      args: ['--headless', '--no-sandbox', ...(gpu ? [] : ['--disable-gpu']), '--disable-quic', '--no-first-run',
              '--disable-background-networking', '--disable-component-update', '--disable-sync',
              ...chromiumArgs],
     });
