@@ -27,6 +27,7 @@ struct Sample {
   Point2 p;
   Point2 normal;        // unit, left of the direction of travel
   bool corner = false;  // a segment joint that keeps a kink
+  bool hidden = false;  // outside its pattern tile (SvgShape::tile): never a feature
 };
 
 Point2 Sub(Point2 a, Point2 b) { return {a.x - b.x, a.y - b.y}; }
@@ -635,7 +636,7 @@ void AddSideFeatures(const Side& side, bool stroke_side, const Raster& reference
     const Sample& s = side.samples[i];
     const double width = thin_fill ? side.widths[i] : side.width;
     const double direction = DirectionDeg({s.normal.y, -s.normal.x});
-    if ((thin_fill && width <= 0) || claimed->Claimed(s.p, direction)) continue;
+    if (s.hidden || (thin_fill && width <= 0) || claimed->Claimed(s.p, direction)) continue;
     const Point2 nrm = s.normal;
     if (width > 0) {
       // A thin structure: its centre against kProbe px beyond either outline; the larger step.
@@ -724,6 +725,17 @@ void AddSideFeatures(const Side& side, bool stroke_side, const Raster& reference
   for (size_t c = before; c < curves->size(); ++c) claimed->ClaimCurve((*curves)[c], kClaimRadius + (*curves)[c].width / 2);
 }
 
+// A pattern tile's copy is seen only inside its tile: its samples elsewhere are hidden (a
+// margin of 0.01 tile px keeps the tile's own sides).
+void HideOutsideTile(const SvgShape& shape, std::vector<Sample>* samples) {
+  constexpr double kMargin = 0.01;
+  const double* m = shape.tile;
+  for (Sample& s : *samples) {
+    const double u = m[0] * s.p.x + m[2] * s.p.y + m[4], v = m[1] * s.p.x + m[3] * s.p.y + m[5];
+    s.hidden = !(u >= -kMargin && v >= -kMargin && u <= shape.tile_width + kMargin && v <= shape.tile_height + kMargin);
+  }
+}
+
 }  // namespace
 
 double OutlineSampleCount(const std::vector<SvgShape>& shapes, const Raster& reference, double spacing) {
@@ -742,6 +754,7 @@ std::vector<FeatureCurve> ArtworkFeatures(const std::vector<SvgShape>& shapes, c
     for (const SvgOutline& outline : shape->outlines) {
       flat.push_back(Flatten(outline, o.sample_spacing, o.corner_angle_deg, window));
       closed.push_back(outline.closed);
+      if (shape->tile_width > 0) HideOutsideTile(*shape, &flat.back());
     }
     // A fill's parts thinner than kThinFill first (their centrelines claim both outlines),
     // then every outline as it is.
@@ -785,6 +798,12 @@ StatusOr<SvgArtworkResult> ImportSvgArtwork(const SvgDocument& document, const S
     result.warnings.push_back("approximate: " + std::to_string(geometry.glyph_runs) +
                               " text runs are drawn from a font without their outlines; their edges are detected "
                               "in librsvg's rendering");
+    result.approximate = true;
+  }
+  if (geometry.patterns_not_copied > 0) {
+    result.warnings.push_back("approximate: " + std::to_string(geometry.patterns_not_copied) +
+                              " paintings with a pattern have no copies of its tile's shapes (a stroke, a nested "
+                              "pattern, too many or too small tiles); their edges are detected in librsvg's rendering");
     result.approximate = true;
   }
   if (!geometry.incomplete.empty()) {

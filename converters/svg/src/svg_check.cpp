@@ -28,9 +28,10 @@ constexpr const char* kXIncludeNamespace2003 = "http://www.w3.org/2003/XInclude"
 
 // Elements whose rendering has no exact features in the artwork mode. Text is not among
 // them: librsvg draws it as the glyphs' outlines, which are traced like any fill.
+// A pattern's tiles are copied over what it fills (spec/SVG.md section 1, "Patterns"); where
+// they cannot be, the trace says so (SvgGeometry::patterns_not_copied).
 bool IsApproximated(std::string_view name) {
-  static const char* const kNames[] = {"filter", "mask", "image", "foreignObject", "pattern", "meshgradient",
-                                       "feImage"};
+  static const char* const kNames[] = {"filter", "mask", "image", "foreignObject", "meshgradient", "feImage"};
   for (const char* n : kNames) {
     if (name == n) return true;
   }

@@ -70,8 +70,11 @@ double OutlineSampleCount(const std::vector<SvgShape>& shapes, const Raster& ref
 
 // The painted shapes in a cairo script (svg_trace.cpp has the grammar it reads); when
 // glyph_runs is non-null it receives the number of show-glyphs / show-text-glyphs
-// operators (text drawn from a font, whose outlines the script does not have).
-std::vector<SvgShape> ReadCairoScript(const std::string& script, size_t* glyph_runs = nullptr);
+// operators (text drawn from a font, whose outlines the script does not have). width x
+// height: the surface's size, which bounds where pattern tiles are copied (0: unbounded);
+// patterns_not_copied: SvgGeometry::patterns_not_copied.
+std::vector<SvgShape> ReadCairoScript(const std::string& script, size_t* glyph_runs = nullptr, int width = 0,
+                                      int height = 0, size_t* patterns_not_copied = nullptr);
 
 // The same for a polyline's or polygon's points (pairs of numbers).
 bool CountPolylinePoints(const std::string& points, size_t* count, std::string* what);

@@ -9,11 +9,12 @@
 //   context ... pop, save ... restore: graphics-state scopes. Between linear / radial /
 //   pattern / mesh and the set-source that consumes it, set-matrix is the pattern's.
 //   w h //CONTENT similar dup /NAME exch def context ... pop: a surface drawn apart (group
-//   opacity, masks, pattern tiles), in device space. NAME pattern ... //EXTEND_REPEAT
-//   set-extend set-source: a tiled pattern, whose tile's shapes are in tile space, not
-//   where they are seen: they are dropped (the artwork mode detects the pattern's edges,
-//   spec/SVG.md; repeating 10 px tiles as outline features costs more of the vertex
-//   budget than it gains).
+//   opacity, masks, pattern tiles), in device space. NAME pattern [matrix] set-matrix ...
+//   //EXTEND_REPEAT set-extend set-source: a tiled pattern (an SVG <pattern>): the tile's
+//   shapes are in tile space, not where they are seen, so they are dropped; a fill painted
+//   with the pattern gets copies of them in device space, one per tile over the fill,
+//   placed by the pattern's matrix (device -> tile) and seen only inside their tile
+//   (SvgShape::tile; spec/SVG.md section 1, "Patterns").
 // Text: librsvg 2.54 fills the glyphs' outlines (m l c h fill), which are read like any
 // path. show-glyphs / show-text-glyphs (text drawn from a font, its outlines not in the
 // script) are only counted: the artwork mode then says the result is approximate.
@@ -23,6 +24,7 @@
 #include <cairo.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <cstdlib>
@@ -44,6 +46,14 @@ namespace {
 // 0.003 px). Rotation keeps lengths, so stroke widths (sqrt |det| of the CTM) are unchanged.
 constexpr double kTraceTurn = 0.01;
 
+// Pattern tiles copied over a fill (spec/SVG.md section 1, "Patterns"): at most this many
+// points and this many px of outline (control polygons) in all copies of one trace, and
+// tiles at least kMinTile px across; beyond these a pattern is left to the artwork mode's
+// edge detection (SvgGeometry::patterns_not_copied).
+constexpr double kMaxTilePoints = 1e6;
+constexpr double kMaxTileLength = 5e5;
+constexpr double kMinTile = 2.0;
+
 cairo_status_t AppendScript(void* closure, const unsigned char* data, unsigned int length) {
   static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
   return CAIRO_STATUS_SUCCESS;
@@ -52,13 +62,34 @@ cairo_status_t AppendScript(void* closure, const unsigned char* data, unsigned i
 struct GraphicsState {
   double line_width = 2.0;  // cairo's default
   double det = 1.0;         // |det| of the CTM
+  // The source, when it is a repeated pattern: its tile surface and the pattern's matrix
+  // (device -> tile space; cairo hands patterns to the script surface in device space).
+  std::string tiled;
+  std::array<double, 6> tile_matrix{1, 0, 0, 1, 0, 0};
 };
+
+// p through the cairo matrix m: (m0 x + m2 y + m4, m1 x + m3 y + m5).
+Point2 Apply(const std::array<double, 6>& m, Point2 p) {
+  return {m[0] * p.x + m[2] * p.y + m[4], m[1] * p.x + m[3] * p.y + m[5]};
+}
+
+// The inverse of m; false when it is singular.
+bool Invert(const std::array<double, 6>& m, std::array<double, 6>* out) {
+  const double det = m[0] * m[3] - m[1] * m[2];
+  if (!std::isfinite(det) || std::abs(det) < 1e-12) return false;
+  const double a = m[3] / det, b = -m[1] / det, c = -m[2] / det, d = m[0] / det;
+  *out = {a, b, c, d, -(a * m[4] + c * m[5]), -(b * m[4] + d * m[5])};
+  return true;
+}
 
 class ScriptReader {
  public:
-  explicit ScriptReader(const std::string& text) : s_(text) {}
+  // width x height: the surface the script draws (0: unknown, tiles are copied over a
+  // fill's whole extent).
+  ScriptReader(const std::string& text, int width, int height) : s_(text), width_(width), height_(height) {}
 
   size_t glyph_runs() const { return glyph_runs_; }
+  size_t patterns_not_copied() const { return patterns_not_copied_; }
 
   std::vector<SvgShape> Read() {
     std::string token;
@@ -176,11 +207,111 @@ class ScriptReader {
     dropped_.push_back(0);
   }
 
-  // A surface drawn apart: its shapes [begin, end) in shapes_.
+  // A surface drawn apart: its shapes [begin, end) in shapes_, its size in pixels.
   struct Surface {
     size_t begin = 0, end = 0;
     bool open = true;
+    double width = 0, height = 0;
+    // Its own shapes, set when it is first used as a tile: those not dropped as a nested
+    // pattern's tile, not copies of one (a nested pattern is not copied again).
+    std::vector<size_t> own;
+    bool nested = false;
+    bool tile = false;
   };
+
+  // The fill just painted (the last shape) with the repeated pattern g.tiled: copies of the
+  // tile's shapes, one per tile that meets the fill's extent (its control points' box,
+  // within the surface grown by 2 px), placed before the fill in painting order so that the
+  // fill's own outline is visited first by the artwork mode (top-most first). Each copy is
+  // seen only inside its tile (SvgShape::tile). Tiles from a pattern within the tile (a
+  // nested pattern) are not copied again.
+  void CopyTiles(const GraphicsState& g) {
+    const auto it = surfaces_.find(g.tiled);
+    std::array<double, 6> to_device;
+    if (it == surfaces_.end() || shapes_.empty() || !Invert(g.tile_matrix, &to_device)) return;
+    const Surface& tile = it->second;
+    const double tw = tile.width, th = tile.height;
+    const std::vector<size_t>& sources = tile.own;
+    double points = 0, length = 0;
+    for (size_t k : sources) {
+      for (const SvgOutline& o : shapes_[k].outlines) {
+        points += double(o.points.size());
+        for (size_t i = 1; i < o.points.size(); ++i) {
+          const Point2 a = Apply(to_device, o.points[i - 1]), b = Apply(to_device, o.points[i]);
+          length += std::hypot(b.x - a.x, b.y - a.y);
+        }
+      }
+    }
+    if (tile.nested) ++patterns_not_copied_;
+    if (sources.empty()) return;
+    // The tile's sides in device space.
+    const double side_x = std::hypot(to_device[0], to_device[1]) * tw;
+    const double side_y = std::hypot(to_device[2], to_device[3]) * th;
+    const SvgShape& fill = shapes_.back();
+    double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+    for (const SvgOutline& o : fill.outlines) {
+      for (const Point2& p : o.points) {
+        x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
+      }
+    }
+    if (width_ > 0 && height_ > 0) {
+      x0 = std::max(x0, -2.0), y0 = std::max(y0, -2.0);
+      x1 = std::min(x1, width_ + 2.0), y1 = std::min(y1, height_ + 2.0);
+    }
+    if (!(x0 <= x1 && y0 <= y1)) return;
+    if (!(tw > 0 && th > 0 && side_x >= kMinTile && side_y >= kMinTile)) {
+      ++patterns_not_copied_;
+      return;
+    }
+    // The tiles (i, j) that meet the box, from its corners in tile space.
+    double u0 = 1e300, v0 = 1e300, u1 = -1e300, v1 = -1e300;
+    for (const Point2& c : {Point2{x0, y0}, Point2{x1, y0}, Point2{x0, y1}, Point2{x1, y1}}) {
+      const Point2 q = Apply(g.tile_matrix, c);
+      u0 = std::min(u0, q.x / tw), u1 = std::max(u1, q.x / tw), v0 = std::min(v0, q.y / th), v1 = std::max(v1, q.y / th);
+    }
+    const double columns = std::floor(u1) - std::floor(u0) + 1, rows = std::floor(v1) - std::floor(v0) + 1;
+    const double copies = columns * rows;
+    if (!(copies * points + tile_points_ <= kMaxTilePoints && copies * length + tile_length_ <= kMaxTileLength)) {
+      ++patterns_not_copied_;
+      return;
+    }
+    tile_points_ += copies * points;
+    tile_length_ += copies * length;
+    SvgShape painted = std::move(shapes_.back());
+    shapes_.pop_back();
+    dropped_.pop_back();
+    const double scale = std::sqrt(std::abs(to_device[0] * to_device[3] - to_device[1] * to_device[2]));
+    for (double j = std::floor(v0); j <= std::floor(v1); ++j) {
+      for (double i = std::floor(u0); i <= std::floor(u1); ++i) {
+        std::array<double, 6> place = to_device;  // tile space -> device, this tile
+        place[4] += to_device[0] * i * tw + to_device[2] * j * th;
+        place[5] += to_device[1] * i * tw + to_device[3] * j * th;
+        for (size_t k : sources) {
+          SvgShape copy;
+          copy.paint = shapes_[k].paint;
+          copy.scale = shapes_[k].scale * scale;
+          copy.stroke_width = shapes_[k].stroke_width * scale;
+          for (const SvgOutline& o : shapes_[k].outlines) {
+            SvgOutline moved{{}, o.closed};
+            moved.points.reserve(o.points.size());
+            for (const Point2& p : o.points) moved.points.push_back(Apply(place, p));
+            copy.outlines.push_back(std::move(moved));
+          }
+          // Device -> this tile's cell [0, tw] x [0, th].
+          std::array<double, 6> cell = g.tile_matrix;
+          cell[4] -= i * tw;
+          cell[5] -= j * th;
+          std::copy(cell.begin(), cell.end(), copy.tile);
+          copy.tile_width = tw;
+          copy.tile_height = th;
+          shapes_.push_back(std::move(copy));
+          dropped_.push_back(0);
+        }
+      }
+    }
+    shapes_.push_back(std::move(painted));
+    dropped_.push_back(0);
+  }
 
   void Handle(const std::string& t) {
     double v = 0;
@@ -205,11 +336,16 @@ class ScriptReader {
     }
     double a[6];
     GraphicsState& g = states_.back();
-    if (t == "def" && literal_.size() > 1) {
+    if (t == "similar" && Take(2, a)) {
+      similar_width_ = a[0], similar_height_ = a[1];
+    } else if (t == "def" && literal_.size() > 1) {
       defined_ = literal_.substr(1);
     } else if (t == "context" && !defined_.empty()) {
       Surface surface;
       surface.begin = shapes_.size();
+      surface.width = similar_width_;
+      surface.height = similar_height_;
+      similar_width_ = similar_height_ = 0;
       surfaces_[defined_] = surface;
       surface_of_state_.resize(states_.size() + 1);
       surface_of_state_[states_.size()] = defined_;  // the state pushed below
@@ -219,11 +355,26 @@ class ScriptReader {
     } else if (t == "pattern") {
       pattern_surface_ = surfaces_.count(word_) > 0 ? word_ : std::string();
       pattern_repeat_ = false;
+      pattern_matrix_ = {1, 0, 0, 1, 0, 0};
     }
     if (t == "set-source") {
       auto it = surfaces_.find(pattern_surface_);
+      g.tiled.clear();
       if (pattern_open_ && pattern_repeat_ && it != surfaces_.end() && !it->second.open) {
-        for (size_t k = it->second.begin; k < it->second.end; ++k) dropped_[k] = 1;
+        Surface& tile = it->second;
+        if (!tile.tile) {
+          tile.tile = true;
+          for (size_t k = tile.begin; k < tile.end; ++k) {
+            if (dropped_[k] || shapes_[k].tile_width > 0) {
+              tile.nested = true;
+            } else {
+              tile.own.push_back(k);
+            }
+          }
+        }
+        for (size_t k = tile.begin; k < tile.end; ++k) dropped_[k] = 1;
+        g.tiled = pattern_surface_;
+        g.tile_matrix = pattern_matrix_;
       }
       pattern_surface_.clear();
     }
@@ -262,9 +413,15 @@ class ScriptReader {
       LineTo(a[0], a[1]);
       path_.back().closed = true;
     } else if (t == "fill" || t == "fill+") {
+      const size_t before = shapes_.size();
       Paint(SvgPaint::kFill);
+      if (!g.tiled.empty() && shapes_.size() > before) CopyTiles(g);
+    } else if (t == "paint" || t == "paint-with-alpha") {
+      if (!g.tiled.empty()) ++patterns_not_copied_;  // painted within a clip: not copied
     } else if (t == "stroke" || t == "stroke+") {
+      const size_t before = shapes_.size();
       Paint(SvgPaint::kStroke);
+      if (!g.tiled.empty() && shapes_.size() > before) ++patterns_not_copied_;
     } else if (t == "clip" || t == "clip+") {
       Paint(SvgPaint::kClip);
     } else if (t == "set-line-width" && Take(1, a)) {
@@ -278,7 +435,9 @@ class ScriptReader {
       pattern_open_ = true;  // set-matrix now applies to the pattern, until set-source
     } else if (t == "set-source") {
       pattern_open_ = false;
-    } else if (t == "set-matrix" && have_array_ && array_.size() == 6 && !pattern_open_) {
+    } else if (t == "set-matrix" && have_array_ && array_.size() == 6 && pattern_open_) {
+      std::copy(array_.begin(), array_.end(), pattern_matrix_.begin());
+    } else if (t == "set-matrix" && have_array_ && array_.size() == 6) {
       g.det = std::abs(array_[0] * array_[3] - array_[1] * array_[2]);
     } else if (t == "transform" && have_array_ && array_.size() == 6) {
       g.det *= std::abs(array_[0] * array_[3] - array_[1] * array_[2]);
@@ -307,15 +466,22 @@ class ScriptReader {
   std::vector<std::string> surface_of_state_;  // per state depth: the surface it draws
   std::string pattern_surface_;            // the surface of the pattern being made
   bool pattern_repeat_ = false;
+  std::array<double, 6> pattern_matrix_{1, 0, 0, 1, 0, 0};  // its matrix (device -> tile)
+  double similar_width_ = 0, similar_height_ = 0;            // the size of the next surface
+  int width_ = 0, height_ = 0;
+  double tile_points_ = 0, tile_length_ = 0;  // in the copies so far (kMaxTilePoints, kMaxTileLength)
   size_t glyph_runs_ = 0;  // show-glyphs / show-text-glyphs seen
+  size_t patterns_not_copied_ = 0;
 };
 
 }  // namespace
 
-std::vector<SvgShape> ReadCairoScript(const std::string& script, size_t* glyph_runs) {
-  ScriptReader reader(script);
+std::vector<SvgShape> ReadCairoScript(const std::string& script, size_t* glyph_runs, int width, int height,
+                                      size_t* patterns_not_copied) {
+  ScriptReader reader(script, width, height);
   std::vector<SvgShape> shapes = reader.Read();
   if (glyph_runs != nullptr) *glyph_runs = reader.glyph_runs();
+  if (patterns_not_copied != nullptr) *patterns_not_copied = reader.patterns_not_copied();
   return shapes;
 }
 
@@ -338,12 +504,18 @@ bool TraceOnce(const SvgDocument& document, int width, int height, double turn, 
   cairo_surface_destroy(surface);
   cairo_device_finish(device);
   cairo_device_destroy(device);
-  geometry->shapes = ReadCairoScript(script, &geometry->glyph_runs);
+  geometry->shapes = ReadCairoScript(script, &geometry->glyph_runs, width, height, &geometry->patterns_not_copied);
   if (turn != 0) {
     const double c = std::cos(turn), s = std::sin(turn);
     for (SvgShape& shape : geometry->shapes) {
       for (SvgOutline& outline : shape.outlines) {
         for (Point2& p : outline.points) p = {c * p.x + s * p.y, -s * p.x + c * p.y};
+      }
+      if (shape.tile_width > 0) {  // device -> tile after the turn back: the turn first
+        const double* m = shape.tile;
+        const double t[6] = {m[0] * c + m[2] * s, m[1] * c + m[3] * s, -m[0] * s + m[2] * c,
+                             -m[1] * s + m[3] * c, m[4], m[5]};
+        std::copy(t, t + 6, shape.tile);
       }
     }
   }

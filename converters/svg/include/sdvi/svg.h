@@ -133,6 +133,12 @@ struct SvgShape {
   double stroke_width = 0;
   double scale = 1;  // output pixels per user unit where it was painted (sqrt |det| of the CTM)
   std::vector<SvgOutline> outlines;
+  // A copy of a pattern tile's shape (spec/SVG.md, section 1, "Patterns"): it is seen only
+  // inside its tile, the points p whose tile coordinates (tile[0] x + tile[2] y + tile[4],
+  // tile[1] x + tile[3] y + tile[5]) lie in [0, tile_width] x [0, tile_height]. tile_width
+  // 0: not a copy, seen wherever it is.
+  double tile[6] = {1, 0, 0, 1, 0, 0};
+  double tile_width = 0, tile_height = 0;
 };
 
 // The painted paths of the document at the same viewport as RenderSvg, in painting order.
@@ -148,6 +154,9 @@ struct SvgGeometry {
   // Text drawn from a font (cairo show-glyphs) rather than as the glyphs' outlines, which
   // librsvg 2.54 never does: its outlines are not traced (spec/SVG.md, section 1).
   size_t glyph_runs = 0;
+  // Paintings with a pattern whose tiles are not copied as shapes (a stroke, a `paint`, a
+  // nested pattern, tiles under 2 px or over the bounds of spec/SVG.md section 1, "Patterns").
+  size_t patterns_not_copied = 0;
 };
 StatusOr<SvgGeometry> TraceSvgGeometry(const SvgDocument& document, int width, int height);
 
