@@ -103,7 +103,8 @@ TEST_CASE("svg geometry: a gradient's matrix does not change the stroke width", 
 
 TEST_CASE("svg geometry: a repeating pattern's tile is not traced where it is not seen", "[svg]") {
   // The tile (two 5 px squares) is drawn into its own surface in tile space, at 0..10; the
-  // pattern fills the rectangle at 20..40. Only the rectangle is traced.
+  // pattern fills the rectangle at 20..40. The tile is not traced there: the rectangle is,
+  // and the tile's copies over it (tests/svg/test_svg_pattern.cpp), before it.
   const sdvi::SvgDocument doc = Doc(
       "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"60\" height=\"60\"><defs>"
       "<pattern id=\"p\" patternUnits=\"userSpaceOnUse\" width=\"10\" height=\"10\">"
@@ -111,9 +112,15 @@ TEST_CASE("svg geometry: a repeating pattern's tile is not traced where it is no
       "fill=\"blue\"/></pattern></defs><rect x=\"20\" y=\"20\" width=\"20\" height=\"20\" fill=\"url(#p)\"/></svg>");
   auto traced = sdvi::TraceSvgGeometry(doc, 60, 60);
   REQUIRE(traced.ok());
-  REQUIRE(traced->shapes.size() == 1);
-  CHECK(traced->shapes[0].outlines[0].points[0].x == Approx(20));
-  CHECK(traced->shapes[0].outlines[0].points[0].y == Approx(20));
+  REQUIRE(traced->shapes.size() == 2);
+  CHECK(traced->shapes[1].outlines[0].points[0].x == Approx(20));
+  CHECK(traced->shapes[1].outlines[0].points[0].y == Approx(20));
+  for (const sdvi::SvgOutline& o : traced->shapes[0].outlines) {
+    for (const sdvi::Point2& p : o.points) {
+      CHECK(p.x >= 20);
+      CHECK(p.y >= 20);
+    }
+  }
 }
 
 TEST_CASE("svg geometry: shapes without area do not stop the trace", "[svg]") {

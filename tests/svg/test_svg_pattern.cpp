@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Pattern fills in the artwork mode (spec/SVG.md section 1, "Patterns"): the tile's shapes
-// are copied over what the pattern fills, in device space, each seen only inside its tile.
+// are copied over what the pattern fills, in device space, clipped to their tile; the
+// edges of the tiles' fills are chained into lines across the tiles.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -21,62 +22,84 @@ sdvi::SvgDocument Doc(const std::string& bytes) {
   return *document;
 }
 
-// The copies of a tile's shapes in a trace (SvgShape::tile_width > 0).
-std::vector<const sdvi::SvgShape*> Copies(const sdvi::SvgGeometry& g) {
-  std::vector<const sdvi::SvgShape*> out;
-  for (const sdvi::SvgShape& s : g.shapes) {
-    if (s.tile_width > 0) out.push_back(&s);
-  }
-  return out;
-}
-
 }  // namespace
 
-TEST_CASE("svg pattern: a pattern fill gives its tile's shapes in device space, one copy per tile", "[svg][pattern]") {
-  // A 20 x 20 user-unit tile with one 10 x 10 square, filling a 60 x 30 rectangle at (20, 20);
-  // the viewBox doubles everything: tiles are 40 px, the fill covers 40..160 x 40..100.
+TEST_CASE("svg pattern: a pattern fill gives its tiles' edges in device space, chained into lines", "[svg][pattern]") {
+  // A 20 x 20 user-unit tile with a 10 x 10 square in one corner and a 10 x 10 square in the
+  // opposite one (a checkerboard), filling a 60 x 30 rectangle at (20, 20); the viewBox
+  // doubles everything: squares are 20 px, the fill covers 40..160 x 40..100.
   const sdvi::SvgDocument doc = Doc(
       "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"200\" height=\"120\" viewBox=\"0 0 100 60\">"
       "<pattern id=\"P\" width=\"20\" height=\"20\" patternUnits=\"userSpaceOnUse\">"
-      "<rect x=\"2\" y=\"4\" width=\"10\" height=\"10\" fill=\"#8030d0\"/></pattern>"
+      "<rect width=\"10\" height=\"10\" fill=\"#8030d0\"/>"
+      "<rect x=\"10\" y=\"10\" width=\"10\" height=\"10\" fill=\"#d0d020\"/></pattern>"
       "<rect x=\"20\" y=\"20\" width=\"60\" height=\"30\" fill=\"url(#P)\"/></svg>");
   auto traced = sdvi::TraceSvgGeometry(doc, 200, 120);
   REQUIRE(traced.ok());
   CHECK(traced->patterns_not_copied == 0);
-  // Tiles at x 40, 80, 120 (+ the one ending at the fill's right side, 160) and y 40, 80:
-  // the fill's box 40..160 x 40..100 meets tile columns 1..4 and rows 1..2.
-  const std::vector<const sdvi::SvgShape*> copies = Copies(*traced);
-  REQUIRE(copies.size() == 8);
-  // The fill itself is the last shape, after its copies.
-  REQUIRE(traced->shapes.size() == 9);
-  CHECK(traced->shapes.back().tile_width == 0);
-  std::vector<std::pair<double, double>> corners;
-  for (const sdvi::SvgShape* s : copies) {
-    REQUIRE(s->outlines.size() == 1);
-    const sdvi::SvgOutline& o = s->outlines[0];
-    double x0 = 1e9, y0 = 1e9, x1 = -1e9, y1 = -1e9;
-    for (const sdvi::Point2& p : o.points) {
-      x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
+  // The tiles' fills as one shape of lines, then the fill itself.
+  REQUIRE(traced->shapes.size() == 2);
+  const sdvi::SvgShape& lines = traced->shapes[0];
+  CHECK(lines.tiled);
+  CHECK(lines.paint == sdvi::SvgPaint::kFill);
+  CHECK(traced->shapes[1].tiled);  // the fill, where the lines end
+  // The fill's box 40..160 x 40..100 meets tile columns 1..4 and rows 1..2 (tiles of 40 px
+  // from 0): 16 squares of 20 px, whose sides lie on x = 40, 60, ..., 200 and y = 40, 60,
+  // ..., 120, each once.
+  size_t segments = 0;
+  for (const sdvi::SvgOutline& o : lines.outlines) {
+    for (size_t k = 0; k + 3 < o.points.size(); k += 3) {
+      ++segments;
+      const sdvi::Point2 a = o.points[k], b = o.points[k + 3];
+      CHECK(std::hypot(b.x - a.x, b.y - a.y) == Approx(20).margin(1e-6));
+      const bool vertical = std::abs(a.x - b.x) < 1e-6;
+      const double on = vertical ? a.x : a.y;  // the grid line
+      CHECK(std::abs(on / 20 - std::round(on / 20)) < 1e-6);
     }
-    CHECK(x1 - x0 == Approx(20).margin(1e-6));
-    CHECK(y1 - y0 == Approx(20).margin(1e-6));
-    corners.push_back({x0, y0});
-    // The copy's tile contains its square: the square's centre maps into [0, w] x [0, h].
-    const double cx = (x0 + x1) / 2, cy = (y0 + y1) / 2;
-    const double u = s->tile[0] * cx + s->tile[2] * cy + s->tile[4], v = s->tile[1] * cx + s->tile[3] * cy + s->tile[5];
-    CHECK(u >= 0);
-    CHECK(u <= s->tile_width);
-    CHECK(v >= 0);
-    CHECK(v <= s->tile_height);
   }
-  std::sort(corners.begin(), corners.end());
-  // Squares at tile origin + (4, 8) px, tiles every 40 px from 0.
-  const std::vector<std::pair<double, double>> expected = {{44, 48}, {44, 88}, {84, 48}, {84, 88},
-                                                           {124, 48}, {124, 88}, {164, 48}, {164, 88}};
-  for (size_t k = 0; k < expected.size(); ++k) {
-    CHECK(corners[k].first == Approx(expected[k].first).margin(1e-3));
-    CHECK(corners[k].second == Approx(expected[k].second).margin(1e-3));
+  CHECK(segments == 64);
+  // Through every corner where four squares meet the lines go on straight: one line per
+  // grid line inside (x = 60..180 from y = 40 to 120, y = 60..100 from x = 40 to 200), and
+  // the border in pieces that turn corners but cross nothing.
+  size_t straight = 0;
+  for (const sdvi::SvgOutline& o : lines.outlines) {
+    const sdvi::Point2 a = o.points.front(), b = o.points.back();
+    const bool along_x = std::abs(a.y - b.y) < 1e-6 && std::abs(std::abs(a.x - b.x) - 160) < 1e-6;
+    const bool along_y = std::abs(a.x - b.x) < 1e-6 && std::abs(std::abs(a.y - b.y) - 80) < 1e-6;
+    if ((along_x || along_y) && o.points.size() == (along_x ? 8u : 4u) * 3 + 1) ++straight;
   }
+  CHECK(straight == 7 + 3);
+}
+
+TEST_CASE("svg pattern: what overflows a tile is clipped away, a lone shape stays a closed outline", "[svg][pattern]") {
+  // A circle of radius 5 in a 20 x 20 tile (closed in every copy) and a bar from x = -5 to
+  // 25 in 10 px segments that overflows the tile on both sides: the tile clips it, so only
+  // the segments whose middle is inside the tile (x 5..15) are kept.
+  const sdvi::SvgDocument doc = Doc(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"60\" height=\"40\">"
+      "<pattern id=\"P\" width=\"20\" height=\"20\" patternUnits=\"userSpaceOnUse\">"
+      "<circle cx=\"10\" cy=\"7\" r=\"5\" fill=\"#202080\"/>"
+      "<path d=\"M -5 15 L 5 15.5 L 15 16 L 25 16.5 L 25 18 L 15 18 L 5 18 L -5 18 Z\" fill=\"#802020\"/></pattern>"
+      "<rect x=\"1\" y=\"1\" width=\"58\" height=\"38\" fill=\"url(#P)\"/></svg>");
+  auto traced = sdvi::TraceSvgGeometry(doc, 60, 40);
+  REQUIRE(traced.ok());
+  INFO(traced->incomplete);
+  REQUIRE(traced->shapes.size() == 2);
+  const sdvi::SvgShape& lines = traced->shapes[0];
+  size_t circles = 0;
+  for (const sdvi::SvgOutline& o : lines.outlines) {
+    for (const sdvi::Point2& p : o.points) {  // the bar's parts outside a tile are gone
+      const double fx = p.x - 20 * std::floor(p.x / 20);
+      if (p.y > 14.9 && p.y < 18.1) CHECK(std::abs(fx - 10) <= 5 + 1e-6);
+    }
+    if (!o.closed) continue;
+    ++circles;
+    for (size_t k = 0; k < o.points.size(); k += 3) {
+      const double cx = 20 * std::floor(o.points[k].x / 20) + 10, cy = 20 * std::floor(o.points[k].y / 20) + 7;
+      CHECK(std::hypot(o.points[k].x - cx, o.points[k].y - cy) == Approx(5).margin(0.01));
+    }
+  }
+  CHECK(circles == 6);  // 3 x 2 tiles
 }
 
 TEST_CASE("svg pattern: a turned pattern's squares become outline features where librsvg draws them", "[svg][pattern]") {
@@ -130,7 +153,7 @@ TEST_CASE("svg pattern: a tiny tile is not copied and the result says it is appr
   auto traced = sdvi::TraceSvgGeometry(doc, 40, 40);
   REQUIRE(traced.ok());
   CHECK(traced->patterns_not_copied == 1);
-  for (const sdvi::SvgShape& shape : traced->shapes) CHECK(shape.tile_width == 0);
+  for (const sdvi::SvgShape& shape : traced->shapes) CHECK_FALSE(shape.tiled);
   sdvi::SvgArtworkOptions options;
   options.vectorize.max_triangles = 400;
   auto result = sdvi::ImportSvgArtwork(doc, options);

@@ -27,7 +27,6 @@ struct Sample {
   Point2 p;
   Point2 normal;        // unit, left of the direction of travel
   bool corner = false;  // a segment joint that keeps a kink
-  bool hidden = false;  // outside its pattern tile (SvgShape::tile): never a feature
 };
 
 Point2 Sub(Point2 a, Point2 b) { return {a.x - b.x, a.y - b.y}; }
@@ -249,12 +248,12 @@ class ClaimMap {
       }
     }
   }
-  // Claims around every sample of a fitted feature curve.
-  void ClaimCurve(const FeatureCurve& c, double radius) {
+  // Claims around every sample of a fitted feature curve, in its direction when directional.
+  void ClaimCurve(const FeatureCurve& c, double radius, bool directional) {
     const std::vector<Point2> p = SampleFeatureCurve(c, 8);
     for (size_t i = 0; i < p.size(); ++i) {
       const Point2 a = p[i > 0 ? i - 1 : i], b = p[i + 1 < p.size() ? i + 1 : i];
-      Claim(p[i], radius, c.width > 0 ? DirectionDeg(Sub(b, a)) : -1.0);
+      Claim(p[i], radius, directional ? DirectionDeg(Sub(b, a)) : -1.0);
     }
   }
 
@@ -278,6 +277,9 @@ struct Side {
   // A thin fill's centreline: each sample's width across (empty otherwise); a run's feature
   // gets the median of its samples' widths.
   std::vector<double> widths;
+  // The edges of a pattern's tiles chained into lines (SvgShape::tiled): its claim keeps
+  // its direction, as a thin structure's does, since the lines cross at the tiles' corners.
+  bool crossing = false;
 };
 
 // The window of an outline: the raster grown by the probe, half the stroke and a pixel.
@@ -428,7 +430,7 @@ std::vector<FeatureCurve> UncoveredEdges(const Raster& fitted, const std::vector
   StatusOr<std::vector<FeatureCurve>> detected = DetectFeatures(fitted, nullptr, o.vectorize.features);
   if (!detected.ok()) return out;
   ClaimMap claimed(fitted.width, fitted.height);
-  for (const FeatureCurve& c : outline_features) claimed.ClaimCurve(c, kClaimRadius + c.width / 2);
+  for (const FeatureCurve& c : outline_features) claimed.ClaimCurve(c, kClaimRadius + c.width / 2, c.width > 0);
   BSplineFitOptions fit;
   fit.tolerance = o.vectorize.features.fit_tolerance;
   fit.max_spacing = o.vectorize.features.max_spacing;
@@ -636,7 +638,7 @@ void AddSideFeatures(const Side& side, bool stroke_side, const Raster& reference
     const Sample& s = side.samples[i];
     const double width = thin_fill ? side.widths[i] : side.width;
     const double direction = DirectionDeg({s.normal.y, -s.normal.x});
-    if (s.hidden || (thin_fill && width <= 0) || claimed->Claimed(s.p, direction)) continue;
+    if ((thin_fill && width <= 0) || claimed->Claimed(s.p, direction)) continue;
     const Point2 nrm = s.normal;
     if (width > 0) {
       // A thin structure: its centre against kProbe px beyond either outline; the larger step.
@@ -691,12 +693,17 @@ void AddSideFeatures(const Side& side, bool stroke_side, const Raster& reference
   for (size_t i = 1; i <= n && all && side.closed && thin_fill; ++i) all = !cut(0, i - 1, i % n);
   std::vector<size_t> run;
   const size_t before = curves->size();
-  auto emit_open = [&](std::vector<size_t> r) {  // without its bridging ends
-    while (!r.empty() && accept[r.back()] == kBridge) r.pop_back();
+  // Without its bridging ends; a pattern's lines keep them: a line that ends on another
+  // feature (a tile's edge at the fill's outline) then crosses it, and the vectorizer joins
+  // the two at a junction.
+  auto emit_open = [&](std::vector<size_t> r) {
+    const bool keep_ends = side.crossing;
+    while (!keep_ends && !r.empty() && accept[r.back()] == kBridge) r.pop_back();
     size_t lead = 0;
-    while (lead < r.size() && accept[r[lead]] == kBridge) ++lead;
+    while (!keep_ends && lead < r.size() && accept[r[lead]] == kBridge) ++lead;
     r.erase(r.begin(), r.begin() + std::ptrdiff_t(lead));
-    if (!r.empty()) EmitRun(side, r, false, contrast, stroke_side, o, curves);
+    if (!r.empty() && std::any_of(r.begin(), r.end(), [&](size_t i) { return accept[i] == 1; }))
+      EmitRun(side, r, false, contrast, stroke_side, o, curves);
   };
   if (all && side.closed && std::find(accept.begin(), accept.end(), 1) != accept.end()) {
     for (size_t i = 0; i < n; ++i) run.push_back(i);
@@ -722,17 +729,8 @@ void AddSideFeatures(const Side& side, bool stroke_side, const Raster& reference
       if (!side.closed && k >= n) break;
     }
   }
-  for (size_t c = before; c < curves->size(); ++c) claimed->ClaimCurve((*curves)[c], kClaimRadius + (*curves)[c].width / 2);
-}
-
-// A pattern tile's copy is seen only inside its tile: its samples elsewhere are hidden (a
-// margin of 0.01 tile px keeps the tile's own sides).
-void HideOutsideTile(const SvgShape& shape, std::vector<Sample>* samples) {
-  constexpr double kMargin = 0.01;
-  const double* m = shape.tile;
-  for (Sample& s : *samples) {
-    const double u = m[0] * s.p.x + m[2] * s.p.y + m[4], v = m[1] * s.p.x + m[3] * s.p.y + m[5];
-    s.hidden = !(u >= -kMargin && v >= -kMargin && u <= shape.tile_width + kMargin && v <= shape.tile_height + kMargin);
+  for (size_t c = before; c < curves->size(); ++c) {
+    claimed->ClaimCurve((*curves)[c], kClaimRadius + (*curves)[c].width / 2, (*curves)[c].width > 0 || side.crossing);
   }
 }
 
@@ -754,16 +752,16 @@ std::vector<FeatureCurve> ArtworkFeatures(const std::vector<SvgShape>& shapes, c
     for (const SvgOutline& outline : shape->outlines) {
       flat.push_back(Flatten(outline, o.sample_spacing, o.corner_angle_deg, window));
       closed.push_back(outline.closed);
-      if (shape->tile_width > 0) HideOutsideTile(*shape, &flat.back());
     }
     // A fill's parts thinner than kThinFill first (their centrelines claim both outlines),
     // then every outline as it is.
-    if (shape->paint == SvgPaint::kFill && o.thin_fills) {
+    if (shape->paint == SvgPaint::kFill && o.thin_fills && !shape->tiled) {
       for (const Side& side : ThinFillSides(flat, closed, window)) AddSideFeatures(side, false, reference, o, &claimed, &curves);
     }
     for (size_t k = 0; k < flat.size(); ++k) {
       const bool stroke = shape->paint == SvgPaint::kStroke;
-      for (const Side& side : SidesOf(*shape, shape->outlines[k], std::move(flat[k]))) {
+      for (Side& side : SidesOf(*shape, shape->outlines[k], std::move(flat[k]))) {
+        side.crossing = shape->tiled && shape->paint == SvgPaint::kFill;  // the lines and the fill they end at
         AddSideFeatures(side, stroke && side.width == 0, reference, o, &claimed, &curves);
       }
     }

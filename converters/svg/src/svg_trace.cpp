@@ -13,8 +13,9 @@
 //   //EXTEND_REPEAT set-extend set-source: a tiled pattern (an SVG <pattern>): the tile's
 //   shapes are in tile space, not where they are seen, so they are dropped; a fill painted
 //   with the pattern gets copies of them in device space, one per tile over the fill,
-//   placed by the pattern's matrix (device -> tile) and seen only inside their tile
-//   (SvgShape::tile; spec/SVG.md section 1, "Patterns").
+//   placed by the pattern's matrix (device -> tile) and clipped to their tile, the tiles'
+//   fills chained into lines across the tiles (SvgShape::tiled; spec/SVG.md section 1,
+//   "Patterns").
 // Text: librsvg 2.54 fills the glyphs' outlines (m l c h fill), which are read like any
 // path. show-glyphs / show-text-glyphs (text drawn from a font, its outlines not in the
 // script) are only counted: the artwork mode then says the result is approximate.
@@ -57,6 +58,137 @@ constexpr double kMinTile = 2.0;
 cairo_status_t AppendScript(void* closure, const unsigned char* data, unsigned int length) {
   static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
   return CAIRO_STATUS_SUCCESS;
+}
+
+// One cubic segment: start, two controls, end.
+using Segment = std::array<Point2, 4>;
+
+// A tile's segment is kept when its middle lies in the tile grown by this (tile px).
+constexpr double kTileMargin = 0.01;
+// At a junction of tile edges a line goes on through the edge turning least, when it
+// turns by less than this (degrees): lines cross as the tiles' edges do.
+constexpr double kStraightDeg = 30;
+
+Point2 CubicMiddle(const Point2* q) {
+  return {(q[0].x + 3 * q[1].x + 3 * q[2].x + q[3].x) / 8, (q[0].y + 3 * q[1].y + 3 * q[2].y + q[3].y) / 8};
+}
+
+// Direction leaving q[0] (towards the first control distinct from it).
+Point2 Leaving(const Segment& q) {
+  for (int k = 1; k <= 3; ++k) {
+    const Point2 d{q[k].x - q[0].x, q[k].y - q[0].y};
+    if (std::hypot(d.x, d.y) > 1e-9) return d;
+  }
+  return {0, 0};
+}
+
+Segment Reversed(const Segment& q) { return {q[3], q[2], q[1], q[0]}; }
+
+double TurnDeg(Point2 a, Point2 b) {
+  const double na = std::hypot(a.x, a.y), nb = std::hypot(b.x, b.y);
+  if (!(na > 0) || !(nb > 0)) return 180;
+  const double c = std::clamp((a.x * b.x + a.y * b.y) / (na * nb), -1.0, 1.0);
+  return std::acos(c) * 180 / 3.14159265358979323846;
+}
+
+// The edges of a pattern's tiles over a fill as lines (spec/SVG.md section 1, "Patterns"):
+// the segments of every copy's fills, each drawn once (a segment and its reverse, ends
+// and controls on a 1/64 px grid, are one), chained end to end: through a point where two
+// segments meet, and through a junction of more along the pair that turns least when it
+// turns by under kStraightDeg. A chain either crosses junctions or turns corners (by
+// kStraightDeg or more), never both, so it never crosses itself; one ending where it began
+// is closed. Adjacent tiles' shared sides and a grid's lines thus become single outlines
+// that cross at junctions, not squares cut around each other. The order is that of the
+// segments.
+std::vector<SvgOutline> ChainSegments(std::vector<Segment> segments) {
+  using Key = std::pair<int64_t, int64_t>;
+  auto key = [](Point2 p) { return Key{std::llround(p.x * 64), std::llround(p.y * 64)}; };
+  // Drawn once.
+  std::map<std::array<int64_t, 8>, size_t> seen;
+  std::vector<Segment> unique;
+  for (const Segment& q : segments) {
+    std::array<int64_t, 8> a, b;
+    for (int k = 0; k < 4; ++k) {
+      const Key f = key(q[k]), r = key(q[3 - k]);
+      a[2 * k] = f.first, a[2 * k + 1] = f.second, b[2 * k] = r.first, b[2 * k + 1] = r.second;
+    }
+    if (key(q[0]) == key(q[3]) && key(q[1]) == key(q[0]) && key(q[2]) == key(q[0])) continue;  // a point
+    if (seen.emplace(std::min(a, b), unique.size()).second) unique.push_back(q);
+  }
+  // The segments at each end point: (segment, 0 = starts there, 1 = ends there).
+  std::map<Key, std::vector<std::pair<size_t, int>>> at;
+  for (size_t s = 0; s < unique.size(); ++s) {
+    at[key(unique[s][0])].push_back({s, 0});
+    at[key(unique[s][3])].push_back({s, 1});
+  }
+  std::vector<uint8_t> used(unique.size(), 0);
+  // The chain being made: its segments, whether it crossed a junction or turned a corner,
+  // whether it may turn.
+  std::vector<size_t> taken;
+  bool crossed = false, turned = false, may_turn = false;
+  // The segment that goes on from the end of q (oriented), or false.
+  auto next = [&](const Segment& q, Segment* out) {
+    const std::vector<std::pair<size_t, int>>& here = at[key(q[3])];
+    const Point2 back = Leaving(Reversed(q));
+    const Point2 dir{-back.x, -back.y};  // arriving at q[3]
+    double best = 1e9;
+    size_t pick = 0;
+    Segment oriented{};
+    for (const auto& [s, end] : here) {
+      if (used[s]) continue;
+      const Segment o = end == 0 ? unique[s] : Reversed(unique[s]);
+      const double turn = TurnDeg(dir, Leaving(o));
+      if (turn < best) best = turn, pick = s, oriented = o;
+    }
+    if (best > 180 || (here.size() > 2 && best >= kStraightDeg)) return false;
+    if (here.size() > 2) {
+      if (turned) return false;
+      crossed = true;
+    } else if (best >= kStraightDeg) {
+      if (crossed || !may_turn) return false;
+      turned = true;
+    }
+    used[pick] = 1;
+    taken.push_back(pick);
+    *out = oriented;
+    return true;
+  };
+  // First the lines that cross junctions, then what is left, turning corners: a grid's
+  // lines run from border to border, its border comes in pieces.
+  std::vector<SvgOutline> out;
+  for (const bool turns : {false, true}) {
+    for (size_t s = 0; s < unique.size(); ++s) {
+      if (used[s]) continue;
+      used[s] = 1;
+      taken = {s};
+      crossed = turned = false;
+      may_turn = turns;
+      std::vector<Segment> forward{unique[s]}, backward;
+      Segment q;
+      while (next(forward.back(), &q)) forward.push_back(q);
+      if (key(forward.back()[3]) != key(forward.front()[0])) {
+        Segment b = Reversed(unique[s]);
+        while (next(b, &q)) backward.push_back(b = q);
+      }
+      if (!turns && !crossed) {
+        for (size_t t : taken) used[t] = 0;
+        continue;
+      }
+      SvgOutline o;
+      for (auto it = backward.rbegin(); it != backward.rend(); ++it) {
+        const Segment r = Reversed(*it);
+        if (o.points.empty()) o.points.push_back(r[0]);
+        o.points.insert(o.points.end(), r.begin() + 1, r.end());
+      }
+      for (const Segment& f : forward) {
+        if (o.points.empty()) o.points.push_back(f[0]);
+        o.points.insert(o.points.end(), f.begin() + 1, f.end());
+      }
+      o.closed = backward.empty() && forward.size() > 1 && key(forward.back()[3]) == key(forward.front()[0]);
+      out.push_back(std::move(o));
+    }
+  }
+  return out;
 }
 
 struct GraphicsState {
@@ -221,10 +353,11 @@ class ScriptReader {
 
   // The fill just painted (the last shape) with the repeated pattern g.tiled: copies of the
   // tile's shapes, one per tile that meets the fill's extent (its control points' box,
-  // within the surface grown by 2 px), placed before the fill in painting order so that the
-  // fill's own outline is visited first by the artwork mode (top-most first). Each copy is
-  // seen only inside its tile (SvgShape::tile). Tiles from a pattern within the tile (a
-  // nested pattern) are not copied again.
+  // within the surface grown by 2 px), each clipped to its tile; the copies' fills chained
+  // into lines (ChainSegments), their strokes and clips as they are, all placed before the
+  // fill in painting order so that the artwork mode (top-most first) visits the fill's own
+  // outline first. Tiles from a pattern within the tile (a nested pattern) are not copied
+  // again.
   void CopyTiles(const GraphicsState& g) {
     const auto it = surfaces_.find(g.tiled);
     std::array<double, 6> to_device;
@@ -281,34 +414,64 @@ class ScriptReader {
     shapes_.pop_back();
     dropped_.pop_back();
     const double scale = std::sqrt(std::abs(to_device[0] * to_device[3] - to_device[1] * to_device[2]));
+    std::vector<Segment> fill_segments;  // of every copy's fills, in device space
+    std::vector<SvgShape> others;        // copies of the tile's strokes and clips
     for (double j = std::floor(v0); j <= std::floor(v1); ++j) {
       for (double i = std::floor(u0); i <= std::floor(u1); ++i) {
         std::array<double, 6> place = to_device;  // tile space -> device, this tile
         place[4] += to_device[0] * i * tw + to_device[2] * j * th;
         place[5] += to_device[1] * i * tw + to_device[3] * j * th;
         for (size_t k : sources) {
+          const SvgShape& source = shapes_[k];
           SvgShape copy;
-          copy.paint = shapes_[k].paint;
-          copy.scale = shapes_[k].scale * scale;
-          copy.stroke_width = shapes_[k].stroke_width * scale;
-          for (const SvgOutline& o : shapes_[k].outlines) {
-            SvgOutline moved{{}, o.closed};
-            moved.points.reserve(o.points.size());
-            for (const Point2& p : o.points) moved.points.push_back(Apply(place, p));
-            copy.outlines.push_back(std::move(moved));
+          copy.tiled = true;
+          copy.paint = source.paint;
+          copy.scale = source.scale * scale;
+          copy.stroke_width = source.stroke_width * scale;
+          for (const SvgOutline& o : source.outlines) {
+            // Segments whose middle lies outside the tile are clipped away by the tile.
+            SvgOutline part{{}, false};
+            bool whole = true;
+            for (size_t s = 0; s + 3 < o.points.size(); s += 3) {
+              const Point2 mid = CubicMiddle(&o.points[s]);
+              if (!(mid.x >= -kTileMargin && mid.y >= -kTileMargin && mid.x <= tw + kTileMargin &&
+                    mid.y <= th + kTileMargin)) {
+                whole = false;
+                if (part.points.size() >= 4) copy.outlines.push_back(std::move(part));
+                part = SvgOutline{{}, false};
+                continue;
+              }
+              Segment d;
+              for (int q = 0; q < 4; ++q) d[q] = Apply(place, o.points[s + q]);
+              if (source.paint == SvgPaint::kFill) {
+                fill_segments.push_back(d);
+                continue;
+              }
+              if (part.points.empty()) part.points.push_back(d[0]);
+              part.points.insert(part.points.end(), d.begin() + 1, d.end());
+            }
+            part.closed = whole && o.closed;
+            if (part.points.size() >= 4) copy.outlines.push_back(std::move(part));
           }
-          // Device -> this tile's cell [0, tw] x [0, th].
-          std::array<double, 6> cell = g.tile_matrix;
-          cell[4] -= i * tw;
-          cell[5] -= j * th;
-          std::copy(cell.begin(), cell.end(), copy.tile);
-          copy.tile_width = tw;
-          copy.tile_height = th;
-          shapes_.push_back(std::move(copy));
-          dropped_.push_back(0);
+          if (!copy.outlines.empty()) others.push_back(std::move(copy));
         }
       }
     }
+    // Painting order: the tile's fills (lower), its strokes and clips, the fill itself.
+    SvgShape lines;
+    lines.paint = SvgPaint::kFill;
+    lines.tiled = true;
+    lines.scale = painted.scale * scale;
+    lines.outlines = ChainSegments(std::move(fill_segments));
+    if (!lines.outlines.empty()) {
+      shapes_.push_back(std::move(lines));
+      dropped_.push_back(0);
+    }
+    for (SvgShape& copy : others) {
+      shapes_.push_back(std::move(copy));
+      dropped_.push_back(0);
+    }
+    painted.tiled = true;
     shapes_.push_back(std::move(painted));
     dropped_.push_back(0);
   }
@@ -365,7 +528,7 @@ class ScriptReader {
         if (!tile.tile) {
           tile.tile = true;
           for (size_t k = tile.begin; k < tile.end; ++k) {
-            if (dropped_[k] || shapes_[k].tile_width > 0) {
+            if (dropped_[k] || shapes_[k].tiled) {
               tile.nested = true;
             } else {
               tile.own.push_back(k);
@@ -510,12 +673,6 @@ bool TraceOnce(const SvgDocument& document, int width, int height, double turn, 
     for (SvgShape& shape : geometry->shapes) {
       for (SvgOutline& outline : shape.outlines) {
         for (Point2& p : outline.points) p = {c * p.x + s * p.y, -s * p.x + c * p.y};
-      }
-      if (shape.tile_width > 0) {  // device -> tile after the turn back: the turn first
-        const double* m = shape.tile;
-        const double t[6] = {m[0] * c + m[2] * s, m[1] * c + m[3] * s, -m[0] * s + m[2] * c,
-                             -m[1] * s + m[3] * c, m[4], m[5]};
-        std::copy(t, t + 6, shape.tile);
       }
     }
   }

@@ -133,12 +133,10 @@ struct SvgShape {
   double stroke_width = 0;
   double scale = 1;  // output pixels per user unit where it was painted (sqrt |det| of the CTM)
   std::vector<SvgOutline> outlines;
-  // A copy of a pattern tile's shape (spec/SVG.md, section 1, "Patterns"): it is seen only
-  // inside its tile, the points p whose tile coordinates (tile[0] x + tile[2] y + tile[4],
-  // tile[1] x + tile[3] y + tile[5]) lie in [0, tile_width] x [0, tile_height]. tile_width
-  // 0: not a copy, seen wherever it is.
-  double tile[6] = {1, 0, 0, 1, 0, 0};
-  double tile_width = 0, tile_height = 0;
+  // Copied from a pattern's tiles over a fill (spec/SVG.md, section 1, "Patterns"): a copy
+  // of a tile's stroke or clip, or (paint kFill) the edges of the tiles' fills chained
+  // into lines across the tiles, which may cross one another.
+  bool tiled = false;
 };
 
 // The painted paths of the document at the same viewport as RenderSvg, in painting order.
