@@ -12,6 +12,7 @@
 #            raster         raster decode through the importer, DecodeRaster
 #            svg            the SVG importer's input side, LoadSvg + RenderSvg +
 #                           TraceSvgGeometry, ArtworkFeatures
+#            edit_script    the edit script, ParseEditScript, applied by ApplyEdits
 #   env: FUZZ_DIR (default build-fuzz), CXX_FUZZ / CC_FUZZ (default clang++ / clang),
 #        FUZZ_RSS_MB (default 2048), FUZZ_NICE (default 10), FUZZ_QUIET=1 (libFuzzer's log
 #        to FUZZ_DIR/TARGET.log)
@@ -21,10 +22,10 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 RUN_SECONDS=${1:-600}
 WHICH=${2:-all}
-ALL_TARGETS="decode draco_payload compress mesh_json raster svg"
+ALL_TARGETS="decode draco_payload compress mesh_json raster svg edit_script"
 case "$WHICH" in
   all) TARGETS=$ALL_TARGETS ;;
-  decode|draco_payload|compress|mesh_json|raster|svg) TARGETS=$WHICH ;;
+  decode|draco_payload|compress|mesh_json|raster|svg|edit_script) TARGETS=$WHICH ;;
   *) echo "fuzz.sh: unknown target '$WHICH' (one of: $ALL_TARGETS, all)" >&2; exit 1 ;;
 esac
 FUZZ_DIR=${FUZZ_DIR:-build-fuzz}

@@ -311,7 +311,7 @@ int main(int argc, char** argv) {
   // The 8-bit path (Render8, what `sdvi render` uses for 8-bit PNG), with its byte check
   // against the float render quantised as the PNG writer does.
   Raster8 ours8;
-  double t_ours8 = 0, c_ours8 = 0;
+  double t_ours8 = 0;
   Raster finest8 = finest;  // the level-5 render as its 8-bit PNG holds it
   RoundTo8Bit(finest8);
   for (int levels : {3, 4, -1}) {
@@ -348,7 +348,7 @@ int main(int argc, char** argv) {
                 best_cpu / c_bicubic, vs_finest.c_str());
     if (levels == -1) {
       ours8 = std::move(*r);
-      t_ours8 = best, c_ours8 = best_cpu;
+      t_ours8 = best;
     }
   }
   std::printf("(Render8 rows: PSNR against the level-5 render rounded to 8 bits, as its PNG holds it)\n");

@@ -148,7 +148,7 @@ Status ValidateImageParts(const Image& image, const std::string& source, bool ha
                         ", " + std::to_string(v[1]) + ", " + std::to_string(v[2]) +
                         ") repeats a vertex");
   }
-  SDVI_RETURN_IF_ERROR(ValidateValues(image, source));
+  SDVI_RETURN_IF_ERROR(CheckImageValues(image, source));
   SDVI_RETURN_IF_ERROR(ValidateTopology(image, source));
   if (!image.crease_edges.empty()) {
     for (size_t i = 0; i < image.crease_edges.size(); ++i) {

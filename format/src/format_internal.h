@@ -39,9 +39,8 @@ void NormalizeSets(Image& image);
 // float rounding at the image's scale): spec/FORMAT.md section 9, check 24.
 inline constexpr double kFoldTolerance = 1.0 / 1024;
 
-// Checks 19-21 of spec/FORMAT.md section 9: size, coordinate and colour ranges. Expects
-// finite values.
-Status ValidateValues(const Image& image, const std::string& source);
+// Checks 19-21 of spec/FORMAT.md section 9 (size, coordinate and colour ranges) are
+// CheckImageValues of sdvi/mesh_rules.h.
 // Checks 22-24: duplicate triangles, non-manifold edges, orientation, folds. Expects
 // indices in range and no degenerate triangle.
 Status ValidateTopology(const Image& image, const std::string& source);

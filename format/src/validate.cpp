@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Value and topology checks of ValidateImage (format.h; spec/FORMAT.md section 9,
-// checks 19-24): what a real image has, beyond what the structure allows.
+// Topology checks of ValidateImage (format.h; spec/FORMAT.md section 9, checks 22-24):
+// what a real image has, beyond what the structure allows. Checks 19-21, the values, are
+// CheckImageValues (sdvi/mesh_rules.h).
 #include <algorithm>
 #include <array>
-#include <cstdio>
 #include <cmath>
 #include <string>
 #include <tuple>
@@ -16,12 +16,6 @@
 namespace sdvi::format_internal {
 namespace {
 
-std::string Num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
 std::string TriangleText(size_t t, const Triangle& tri) {
   return "triangle " + std::to_string(t) + " (" + std::to_string(tri.v[0]) + ", " +
          std::to_string(tri.v[1]) + ", " + std::to_string(tri.v[2]) + ")";
@@ -33,33 +27,6 @@ double Side(const Vertex& a, const Vertex& b, const Vertex& p) {
 }
 
 }  // namespace
-
-Status ValidateValues(const Image& image, const std::string& source) {
-  if (image.width > kMaxImageSide || image.height > kMaxImageSide)
-    return Status(StatusCode::kLimitExceeded,
-                  source + ": image size " + std::to_string(image.width) + " x " +
-                      std::to_string(image.height) + " exceeds the largest an .sdvi file holds (" +
-                      std::to_string(kMaxImageSide) + " x " + std::to_string(kMaxImageSide) + ")");
-  const double s = std::max(image.width, image.height);
-  const double x_lo = -s, x_hi = image.width + s, y_lo = -s, y_hi = image.height + s;
-  for (size_t i = 0; i < image.vertices.size(); ++i) {
-    const Vertex& v = image.vertices[i];
-    if (!(v.x >= x_lo && v.x <= x_hi && v.y >= y_lo && v.y <= y_hi))
-      return Status(StatusCode::kValueOutOfRange,
-                    source + ": vertex " + std::to_string(i) + " lies at (" + Num(v.x) + ", " +
-                        Num(v.y) + "), more than one image size outside the " +
-                        std::to_string(image.width) + " x " + std::to_string(image.height) +
-                        " image (allowed: x in [" + Num(x_lo) + ", " + Num(x_hi) + "], y in [" +
-                        Num(y_lo) + ", " + Num(y_hi) + "])");
-    for (float c : {v.r, v.g, v.b})
-      if (!(c >= kMinColor && c <= kMaxColor))
-        return Status(StatusCode::kValueOutOfRange,
-                      source + ": vertex " + std::to_string(i) + " has colour (" + Num(v.r) + ", " +
-                          Num(v.g) + ", " + Num(v.b) + "); components must lie in [" +
-                          Num(kMinColor) + ", " + Num(kMaxColor) + "]");
-  }
-  return Status::Ok();
-}
 
 }  // namespace sdvi::format_internal
 

@@ -432,3 +432,34 @@ TEST_CASE("the feature list and the overlay show every feature", "[edit][feature
   const int x = int(std::lround(32 - 5 * 0.75 / 2));
   CHECK(std::fabs(overlay.at(x, 30, 0) - overlay.at(x, 30, 1)) > 20);
 }
+
+TEST_CASE("an edit that leaves values no file holds is refused, naming the vertex", "[edit][validity]") {
+  // The fuzzer's find: a frame change whose matrix moves vertices far outside the new frame
+  // succeeded, and the result could not be written (spec/FORMAT.md section 9, check 20).
+  const Image image = edit_test::StraightEdge(64, 48, 0.5f);
+  AffineOp stretch;
+  stretch.matrix = {8, -2, 48, 1, 0, 0};  // x' = 8x - 2y + 48 reaches 560 in a 48 px frame
+  stretch.new_width = 48;
+  stretch.new_height = 64;
+  auto far = ApplyEdits(image, {Step(stretch)});
+  REQUIRE(!far.ok());
+  CHECK(far.status().code() == StatusCode::kEditRefused);
+  INFO(far.status().message());
+  CHECK(far.status().message().find("out of range: vertex ") != std::string::npos);
+  CHECK(far.status().message().find("more than one image size outside the 48 x 64 image") != std::string::npos);
+  // The same frame change without the stretch is fine, and so is every value it leaves.
+  AffineOp turn = stretch;
+  turn.matrix = {0, -1, 48, 1, 0, 0};
+  auto turned = ApplyEdits(image, {Step(turn)});
+  REQUIRE(turned.ok());
+  CHECK(CheckImageValues(*turned, "turned").ok());
+  // Colours: scaled 8 times, the light side (200) goes to 1600, past 255 + 1024.
+  ScaleColorOp bright;
+  bright.factor = {8, 8, 8};
+  auto glare = ApplyEdits(image, {Step(bright)});
+  REQUIRE(!glare.ok());
+  CHECK(glare.status().code() == StatusCode::kEditRefused);
+  CHECK(glare.status().message().find("has colour (1600, 1600, 1600)") != std::string::npos);
+  bright.factor = {6, 6, 6};  // 1200 <= 1279: allowed
+  CHECK(ApplyEdits(image, {Step(bright)}).ok());
+}

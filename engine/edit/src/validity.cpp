@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The validity rule of an edit: no fold, no degenerate triangle, no crossing of crease
-// edges, finite values (rules in sdvi/edit.h).
+// edges, finite values within the ranges a file holds (rules in sdvi/edit.h).
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -8,6 +8,7 @@
 
 #include "edit_internal.h"
 #include "sdvi/edit.h"
+#include "sdvi/mesh_rules.h"
 
 namespace sdvi {
 namespace {
@@ -61,6 +62,12 @@ Status CheckFinite(const Image& image) {
       if (!std::isfinite(x)) return Refuse("vertex " + std::to_string(i) + " would get a non-finite value");
   }
   return Status::Ok();
+}
+
+// The ranges every reader and writer holds an image to (CheckImageValues).
+Status CheckInRange(const Image& image) {
+  const Status values = CheckImageValues(image, "the edit would leave a value out of range");
+  return values.ok() ? values : Refuse(values.message());
 }
 
 // Per triangle against its own sign before; after a repair (changed triangles) against
@@ -162,6 +169,7 @@ Status CheckEditValidity(const Image& before, const Image& after) {
   if (before.vertices.size() != after.vertices.size() || before.triangles.size() != after.triangles.size())
     return Status(StatusCode::kInternal, "CheckEditValidity: the edit changed the vertex or triangle count");
   SDVI_RETURN_IF_ERROR(CheckFinite(after));
+  SDVI_RETURN_IF_ERROR(CheckInRange(after));
   SDVI_RETURN_IF_ERROR(CheckOrientation(before, after));
   SDVI_RETURN_IF_ERROR(CheckDegenerate(before, after));
   return CheckCrossings(before, after);

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "sdvi/image.h"
+#include "sdvi/mesh_rules.h"
 #include "sdvi/status.h"
 
 namespace sdvi {
@@ -33,17 +34,8 @@ inline constexpr uint16_t kSdviVersionMinor = 0;
 // Largest vertex count of the narrow profile (uint16 triangle indices).
 inline constexpr uint32_t kNarrowProfileMaxVertices = 65535;
 
-// Values a real image has (spec/FORMAT.md section 9, checks 19-21); ValidateImage
-// refuses anything else, so every reader and writer refuses it.
-// Width and height: 1 .. kMaxImageSide pixels (kLimitExceeded).
-inline constexpr uint32_t kMaxImageSide = 1u << 18;  // 262144 pixels
-// Control vertices lie within one image size of the image: with S = max(width, height),
-// x in [-S, width + S] and y in [-S, height + S] (kValueOutOfRange). The limit surface
-// interpolates the boundary, so control vertices of a fitted image stay near it.
-// Colours (0..255 scale) may overshoot, as least-squares control colours do near sharp
-// edges, but by at most kColorMargin on either side (kValueOutOfRange).
-inline constexpr float kColorMargin = 1024.0f;
-inline constexpr float kMinColor = -kColorMargin, kMaxColor = 255.0f + kColorMargin;
+// The values a real image has (kMaxImageSide, kColorMargin, CheckImageValues) are in
+// sdvi/mesh_rules.h, shared with the engine and the editor.
 
 // Limits a reader enforces before allocating anything (kLimitExceeded beyond them).
 struct ReadOptions {

@@ -18,7 +18,10 @@
 //    (and was not below it before);
 //  - crossing: two crease edges (feature polylines, the boundary) that cross each other
 //    where they did not before;
-//  - non-finite: a position or colour that is NaN or infinite.
+//  - non-finite: a position or colour that is NaN or infinite;
+//  - out of range: a value outside what a file holds (CheckImageValues of
+//    sdvi/mesh_rules.h: vertices within one image size of the frame, colours within
+//    kColorMargin of 0..255).
 // The error (kEditRefused) names the operation, the rule and the first elements that break
 // it (triangle ids with their vertices, or the two edges). EditOptions::repair_folds may
 // first re-triangulate folds by edge flips; then a fold is checked against the mesh's
