@@ -176,3 +176,51 @@ TEST_CASE("no cliff at low budgets: halving the budget of flat-colour art costs 
   CHECK(half->report.vertices <= 1.03 * budget + 1);
   CHECK(half->report.feature_curves >= 12);
 }
+
+TEST_CASE("given features on top of the budget: exact features do not take the interior's vertices", "[feature_budget][vectorize]") {
+  // The 18 circles of the discs given as exact features (as an importer knows them), at
+  // 100 pixels per vertex (368 vertices): sharing the budget, the features are cut to their
+  // share; with given_features_extra 1 their own cost (no crossings: no junctions) comes on
+  // top, up to once more the budget.
+  const sdvi::Raster discs = Discs();
+  std::vector<sdvi::FeatureCurve> given;
+  for (int k = 0; k < 9; ++k) {
+    const int i = k % 3, j = k / 3;
+    const double r = 20 + 4 * ((i + 2 * j) % 3);
+    given.push_back(Circle(32 + 64 * i, 32 + 64 * j, r, 120));
+    given.push_back(Circle(32 + 64 * i, 32 + 64 * j, r - 5, 120));
+  }
+  const double base = 192.0 * 192.0 / 100;
+  const double extra = std::min(Cost(given), base);
+  sdvi::VectorizeOptions options;
+  options.compression_ratio = 100;
+  auto shared = sdvi::VectorizeWithFeatures(discs, nullptr, given, options);
+  REQUIRE(shared.ok());
+  options.given_features_extra = 1;
+  auto on_top = sdvi::VectorizeWithFeatures(discs, nullptr, given, options);
+  REQUIRE(on_top.ok());
+  INFO("shared: " << shared->report.psnr << " dB, " << shared->report.vertices << " vertices, "
+                  << shared->report.feature_curves << " features; on top: " << on_top->report.psnr << " dB, "
+                  << on_top->report.vertices << " vertices, " << on_top->report.feature_curves
+                  << " features; cost " << Cost(given));
+  CHECK(extra > 0.25 * base);
+  CHECK(shared->report.vertices <= 1.03 * base + 1);
+  CHECK(on_top->report.vertices <= 1.03 * (base + extra) + 1);
+  CHECK(on_top->report.vertices > shared->report.vertices);
+  CHECK(on_top->report.feature_curves >= shared->report.feature_curves);
+  CHECK(on_top->report.psnr > shared->report.psnr);
+  // Under max_triangles, a hard cap, the option changes nothing.
+  options.max_triangles = 700;
+  auto capped = sdvi::VectorizeWithFeatures(discs, nullptr, given, options);
+  options.given_features_extra = 0;
+  auto capped_shared = sdvi::VectorizeWithFeatures(discs, nullptr, given, options);
+  REQUIRE(capped.ok());
+  REQUIRE(capped_shared.ok());
+  CHECK(capped->report.triangles == capped_shared->report.triangles);
+  CHECK(capped->report.psnr == capped_shared->report.psnr);
+  // Out of range: a clear error.
+  options.given_features_extra = -1;
+  auto bad = sdvi::VectorizeWithFeatures(discs, nullptr, given, options);
+  REQUIRE_FALSE(bad.ok());
+  CHECK(bad.status().code() == sdvi::StatusCode::kInvalidArgument);
+}

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <exception>
+#include <limits>
 #include <new>
 #include <numeric>
 #include <string>
@@ -67,7 +68,8 @@ Status CheckOptions(const VectorizeOptions& o) {
   if (!(o.error_threshold >= 0) || !(o.error_blur_sigma >= 0) || !(o.spacing_factor > 0) ||
       !(o.min_spacing > 0) || !(o.initial_fraction >= 0 && o.initial_fraction <= 1) ||
       !(o.growth > 0) || o.content_block < 0 ||
-      !(o.max_feature_fraction >= 0 && o.max_feature_fraction <= 1)) {
+      !(o.max_feature_fraction >= 0 && o.max_feature_fraction <= 1) ||
+      !(o.given_features_extra >= 0 && std::isfinite(o.given_features_extra))) {
     return bad("refinement constants out of range");
   }
   if (o.flip_passes < 0 || !(o.flip_min_angle >= 0 && o.flip_min_angle < 60)) {
@@ -154,9 +156,13 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
                                            "(alpha or mask is zero everywhere)");
   }
   report.pixels = domain_pixels;
-  const double vertex_budget =
+  // base_budget: from max_triangles or compression_ratio; vertex_budget adds the given
+  // features' own cost when given_features_extra allows (below): the interior's density
+  // follows the base, the totals the sum.
+  const double base_budget =
       options.max_triangles > 0 ? options.max_triangles / 2.0
                                 : double(domain_pixels) / options.compression_ratio;
+  double vertex_budget = base_budget;
   const size_t triangle_cap = options.max_triangles > 0 ? size_t(options.max_triangles) : 0;
 
   // 1-2. Curvilinear features and their B-splines.
@@ -167,6 +173,17 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
   SDVI_ASSIGN_OR_RETURN(std::vector<FeatureCurve> detected,
                         DetectFeatures(raster, mask, feature_options));
   if (given != nullptr) detected.insert(detected.end(), given->begin(), given->end());
+  if (given != nullptr && triangle_cap == 0 && options.given_features_extra > 0) {
+    // The given features' cost as the feature budget counts it (pairs, junctions), on top.
+    FeatureBudgetOptions cost_options;
+    cost_options.vertex_budget = std::numeric_limits<double>::infinity();
+    cost_options.pairs = options.mesh.pairs;
+    cost_options.junctions = options.mesh.junctions;
+    FeatureBudgetStats cost;
+    (void)FitFeaturesToBudget(*given, cost_options, &cost);
+    vertex_budget += std::min(cost.vertices_detected, options.given_features_extra * base_budget);
+  }
+  const double extra_budget = vertex_budget - base_budget;
   // The quality stop's blocks: interior samples go to busy blocks only.
   const ContentBlocks content =
       FindContentBlocks(raster, mask, options.content_block, options.error_threshold);
@@ -174,8 +191,8 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
   // part of the domain; what the flat part would have had goes to the features.
   FeatureBudgetOptions budget_options;
   budget_options.vertex_budget =
-      (1.0 - (1.0 - options.max_feature_fraction) * content.BusyShare()) * vertex_budget;
-  budget_options.interior_spacing = std::sqrt(double(domain_pixels) / vertex_budget);
+      (1.0 - (1.0 - options.max_feature_fraction) * content.BusyShare()) * base_budget + extra_budget;
+  budget_options.interior_spacing = std::sqrt(double(domain_pixels) / base_budget);
   budget_options.pairs = options.mesh.pairs;
   budget_options.junctions = options.mesh.junctions;
   FeatureBudgetStats budget_stats;
@@ -185,7 +202,7 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
   // 3-4. Initial interior samples and the control mesh.
   phase("mesh");
   const double clearance = std::max(1.0, options.feature_clearance);
-  const double initial_count = std::max(4.0, options.initial_fraction * vertex_budget);
+  const double initial_count = std::max(4.0, options.initial_fraction * base_budget);
   const double grid_spacing = std::sqrt(2.0 * double(domain_pixels) / (std::sqrt(3.0) * initial_count));
   std::vector<uint8_t> blocked;
   std::vector<Point2> samples;
@@ -204,7 +221,7 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
   if (mesh_options.max_edge <= 0) {
     // CDT size bound from the budget: a few times the mean vertex spacing, so that the
     // interior samples, not the size bound, decide the density.
-    mesh_options.max_edge = float(4.0 * std::sqrt(double(domain_pixels) / vertex_budget));
+    mesh_options.max_edge = float(4.0 * std::sqrt(double(domain_pixels) / base_budget));
   }
   const double diagonal = std::hypot(double(width), double(height));
   FlipErrorCache flip_cache;  // the rounds' triangulations share most triangles
@@ -213,7 +230,7 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
   for (int feature_rounds = 0;; ++feature_rounds) {
     SDVI_ASSIGN_OR_RETURN(mesh, BuildControlMesh(width, height, curves, samples, mesh_options));
     const double overshoot = double(mesh.vertices.size()) - 0.97 * vertex_budget;
-    const double floor_budget = options.max_feature_fraction * vertex_budget;
+    const double floor_budget = options.max_feature_fraction * base_budget + extra_budget;
     if (triangle_cap == 0 && overshoot > 0 && budget_stats.vertices_kept < budget_stats.vertices_detected &&
         budget_options.vertex_budget > floor_budget && feature_rounds < 4) {
       // The features were cut to their budget and the mesh (with the mesher's Steiner
@@ -262,7 +279,7 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
   // 6. Refinement rounds.
   SpacingRule spacing;
   spacing.base = std::max(options.min_spacing,
-                          options.spacing_factor * std::sqrt(double(domain_pixels) / vertex_budget));
+                          options.spacing_factor * std::sqrt(double(domain_pixels) / base_budget));
   spacing.min = options.min_spacing;
   spacing.max = 4 * spacing.base;
   spacing.exponent = options.spacing_exponent;

@@ -172,7 +172,13 @@ struct SvgArtworkOptions {
   SvgBackground background = SvgBackground::kAuto;
   double scale = 0;    // output size = scale x intrinsic size (0: 1)
   SvgLimits limits;
-  VectorizeOptions vectorize;
+  // The vectorizer's options; given_features_extra 1: the exact features' own vertices
+  // come on top of the budget, up to once more the budget (spec/SVG.md section 4 step 4).
+  VectorizeOptions vectorize = [] {
+    VectorizeOptions v;
+    v.given_features_extra = 1.0;
+    return v;
+  }();
   double tolerance = 0.5;         // px: max distance from the B-spline to the exact outline
   double corner_angle_deg = 25;   // a turn of more than this at a segment joint keeps a kink
   double min_contrast = 16;       // RMS step over R, G, B (0..255) across an outline, 1.5 px

@@ -70,6 +70,14 @@ struct VectorizeOptions {
   // the flat part); within it they are kept, coarsened or dropped by value per vertex
   // (FitFeaturesToBudget, sdvi/feature_budget.h; spec/METHOD.md section 6 step 3).
   double max_feature_fraction = 0.5;
+  // VectorizeWithFeatures: the given features' own cost (FeatureVertexCost plus junctions,
+  // as the feature budget counts them) is added to the vertex budget and to the features'
+  // share of it, up to this many times the budget from compression_ratio, so that exact
+  // features (an importer's outlines) do not take the interior's vertices; the interior's
+  // density (grid, size bound, refinement spacing) still follows compression_ratio. 0: the
+  // given features share the budget as detected ones do. Not applied under max_triangles
+  // (a hard cap). spec/METHOD.md section 6 step 3.
+  double given_features_extra = 0;
   // Data-dependent edge flips after every triangulation (FlipEdgesToData; beyond the
   // paper, which keeps the CDT as it is).
   int flip_passes = 16;            // sweeps at most (0: none)
