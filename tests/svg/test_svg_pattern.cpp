@@ -161,3 +161,18 @@ TEST_CASE("svg pattern: a tiny tile is not copied and the result says it is appr
   REQUIRE(result.ok());
   CHECK(result->approximate);
 }
+
+TEST_CASE("svg pattern: copies are bounded; a small tile over a large fill is left to edge detection", "[svg][pattern]") {
+  // 3 px tiles over 2000 x 2000 px: 444,889 copies of a square, 1.3e7 points, over the
+  // 10^6 points copies may have in one trace. The trace stays small and says so.
+  const sdvi::SvgDocument doc = Doc(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"2000\" height=\"2000\">"
+      "<pattern id=\"P\" width=\"3\" height=\"3\" patternUnits=\"userSpaceOnUse\">"
+      "<rect width=\"1.5\" height=\"1.5\" fill=\"black\"/></pattern>"
+      "<rect x=\"1\" y=\"1\" width=\"1998\" height=\"1998\" fill=\"url(#P)\"/></svg>");
+  auto traced = sdvi::TraceSvgGeometry(doc, 2000, 2000);
+  REQUIRE(traced.ok());
+  CHECK(traced->patterns_not_copied == 1);
+  REQUIRE(traced->shapes.size() == 1);  // the fill alone
+  CHECK_FALSE(traced->shapes[0].tiled);
+}

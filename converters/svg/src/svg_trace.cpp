@@ -667,7 +667,10 @@ bool TraceOnce(const SvgDocument& document, int width, int height, double turn, 
   cairo_surface_destroy(surface);
   cairo_device_finish(device);
   cairo_device_destroy(device);
-  geometry->shapes = ReadCairoScript(script, &geometry->glyph_runs, width, height, &geometry->patterns_not_copied);
+  // Turned, the surface is not the box (0, 0, width, height) of the script's coordinates:
+  // pattern tiles are then copied over each fill's whole extent.
+  geometry->shapes = ReadCairoScript(script, &geometry->glyph_runs, turn == 0 ? width : 0, turn == 0 ? height : 0,
+                                     &geometry->patterns_not_copied);
   if (turn != 0) {
     const double c = std::cos(turn), s = std::sin(turn);
     for (SvgShape& shape : geometry->shapes) {
