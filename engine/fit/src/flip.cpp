@@ -3,9 +3,6 @@
 // constrained Delaunay triangulation ignores the colours; a flip of a non-crease edge is
 // kept when the piecewise-linear interpolation of the image colours at the vertices fits
 // the pixels of the edge's quadrilateral better with the other diagonal.
-#include <opencv2/core.hpp>
-#include <opencv2/imgproc.hpp>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -36,67 +33,160 @@ double MinAngleSine(const Vertex& a, const Vertex& b, const Vertex& c) {
   return m > 0 ? area2 / m : 0;
 }
 
+// The 9 taps of a Gaussian of sigma 1 px (offsets -4..4), summing to 1.
+std::array<double, 9> GaussianTaps() {
+  std::array<double, 9> taps;
+  double sum = 0;
+  for (int i = 0; i < 9; ++i) sum += taps[size_t(i)] = std::exp(-0.5 * double((i - 4) * (i - 4)));
+  for (double& t : taps) t /= sum;
+  return taps;
+}
+
+// Index i of a row or column of n pixels, reflected at the ends (... 1 0 | 0 1 ... n-1 | n-1 n-2 ...).
+int Reflect(int i, int n) {
+  while (i < 0 || i >= n) i = i < 0 ? -i - 1 : 2 * n - 1 - i;
+  return i;
+}
+
+// R, G, B of raster smoothed by a Gaussian of sigma 1 px (9 taps, reflected border) and
+// interpolated bilinearly at v's position (pixel centres at half-integers).
+Rgb SmoothedColour(const Raster& raster, const Vertex& v) {
+  static const std::array<double, 9> taps = GaussianTaps();
+  const int width = raster.width, height = raster.height;
+  const double fx = std::clamp(double(v.x) - 0.5, 0.0, double(width - 1));
+  const double fy = std::clamp(double(v.y) - 0.5, 0.0, double(height - 1));
+  const int ix = std::min(int(fx), std::max(0, width - 2)), iy = std::min(int(fy), std::max(0, height - 2));
+  const int jx = std::min(ix + 1, width - 1), jy = std::min(iy + 1, height - 1);
+  const double u = fx - ix, w = fy - iy;
+  const int grey = raster.channels <= 2;
+  // Horizontal passes at columns ix, jx over rows iy - 4 .. jy + 4, then vertical ones.
+  double rows[10][2][3] = {};
+  for (int r = 0; r < 10; ++r) {
+    const int y = Reflect(iy - 4 + r, height);
+    for (int side = 0; side < 2; ++side) {
+      const int x0 = side == 0 ? ix : jx;
+      for (int t = 0; t < 9; ++t) {
+        const float* px = &raster.data[(size_t(y) * width + size_t(Reflect(x0 - 4 + t, width))) * raster.channels];
+        for (int k = 0; k < 3; ++k) rows[r][side][k] += taps[size_t(t)] * px[grey ? 0 : k];
+      }
+    }
+  }
+  Rgb out;
+  for (int k = 0; k < 3; ++k) {
+    double s[2][2] = {};  // [row iy / jy][column ix / jx]
+    for (int t = 0; t < 9; ++t) {
+      for (int side = 0; side < 2; ++side) {
+        s[0][side] += taps[size_t(t)] * rows[t][side][k];
+        s[1][side] += taps[size_t(t)] * rows[t + (jy - iy)][side][k];
+      }
+    }
+    out.c[k] = float((1 - u) * (1 - w) * s[0][0] + u * (1 - w) * s[0][1] + (1 - u) * w * s[1][0] + u * w * s[1][1]);
+  }
+  return out;
+}
+
+// The three corners of t in the canonical order (ascending x, then y, as float bits), and
+// its cache key: an error is computed in that order, so it is a function of the triangle
+// alone, whatever the rotation or orientation its mesh lists it in.
+std::array<uint32_t, 3> CanonicalCorners(const Image& mesh, const std::array<uint32_t, 3>& t,
+                                         std::array<uint32_t, 6>* key) {
+  std::array<std::array<uint32_t, 3>, 3> items;  // x bits, y bits, vertex
+  for (int k = 0; k < 3; ++k) {
+    std::memcpy(&items[k][0], &mesh.vertices[t[k]].x, 4);
+    std::memcpy(&items[k][1], &mesh.vertices[t[k]].y, 4);
+    items[k][2] = t[k];
+  }
+  std::sort(items.begin(), items.end());
+  for (int k = 0; k < 3; ++k) {
+    (*key)[2 * k] = items[k][0];
+    (*key)[2 * k + 1] = items[k][1];
+  }
+  return {items[0][2], items[1][2], items[2][2]};
+}
+
 class QuadError {
  public:
   QuadError(const Image& mesh, const Raster& raster, const Raster* mask, const std::vector<Rgb>& colour)
       : mesh_(mesh), raster_(raster), mask_(mask), colour_(colour),
         whole_(mask == nullptr && !raster.has_alpha()) {}
 
-  // Squared error of the linear interpolation over triangle t (vertex triple) at the
-  // pixel centres inside it.
+  // Squared error of the linear interpolation over triangle t (vertex triple, in
+  // CanonicalCorners order) at the pixel centres it owns. Ownership is exact: positions in
+  // fixed point (kSubpixelBits, as the renderer), a centre strictly inside or on a top or
+  // left edge (sdvi/render.h), so the pixels of a quadrilateral belong to exactly one of its
+  // two triangles whichever diagonal it has. The interpolation is c2 + w0 (c0 - c2) +
+  // w1 (c1 - c2) with w_k = E_k / area from the exact edge functions: constant where the
+  // three colours are equal.
   double Triangle(const std::array<uint32_t, 3>& t) const {
-    const Vertex& a = mesh_.vertices[t[0]];
-    const Vertex& b = mesh_.vertices[t[1]];
-    const Vertex& c = mesh_.vertices[t[2]];
-    const double det = Orient(a, b, c);
-    if (std::abs(det) < 1e-12) return 0;
-    const int x0 = std::max(0, int(std::floor(std::min({a.x, b.x, c.x}) - 0.5f)));
-    const int x1 = std::min(raster_.width - 1, int(std::ceil(std::max({a.x, b.x, c.x}) - 0.5f)));
-    const int y0 = std::max(0, int(std::floor(std::min({a.y, b.y, c.y}) - 0.5f)));
-    const int y1 = std::min(raster_.height - 1, int(std::ceil(std::max({a.y, b.y, c.y}) - 0.5f)));
-    const Rgb& ca = colour_[t[0]];
-    const Rgb& cb = colour_[t[1]];
-    const Rgb& cc = colour_[t[2]];
+    constexpr int64_t kOne = int64_t(1) << kSubpixelBits, kHalf = kOne / 2;
+    int64_t x[3], y[3];
+    const Rgb* c[3];
+    for (int k = 0; k < 3; ++k) {
+      const Vertex& v = mesh_.vertices[t[k]];
+      if (!(std::abs(v.x) < kMaxOutputCoord && std::abs(v.y) < kMaxOutputCoord)) return 0;
+      x[k] = std::llround(double(v.x) * double(kOne));
+      y[k] = std::llround(double(v.y) * double(kOne));
+      c[k] = &colour_[t[k]];
+    }
+    int64_t area = (x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]);
+    if (area == 0) return 0;
+    if (area < 0) {  // counter-clockwise on screen: edge functions positive inside
+      std::swap(x[1], x[2]);
+      std::swap(y[1], y[2]);
+      std::swap(c[1], c[2]);
+      area = -area;
+    }
+    auto floor_div = [](int64_t n, int64_t d) { return n >= 0 ? n / d : -((-n + d - 1) / d); };
+    const int64_t j0 = std::max<int64_t>(0, -floor_div(-(std::min({y[0], y[1], y[2]}) - kHalf), kOne));
+    const int64_t j1 = std::min<int64_t>(raster_.height - 1, floor_div(std::max({y[0], y[1], y[2]}) - kHalf, kOne));
+    const int64_t i0 = std::max<int64_t>(0, -floor_div(-(std::min({x[0], x[1], x[2]}) - kHalf), kOne));
+    const int64_t i1 = std::min<int64_t>(raster_.width - 1, floor_div(std::max({x[0], x[1], x[2]}) - kHalf, kOne));
+    // E_k (edge from corner k+1 to k+2) at pixel (i, j) = a[k] i + dx[k] (j kOne + kHalf - y1) + cst[k].
+    int64_t a[3], dx[3], y1[3], cst[3], bias[3];
+    for (int k = 0; k < 3; ++k) {
+      const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+      dx[k] = x[k2] - x[k1];
+      const int64_t dy = y[k2] - y[k1];
+      a[k] = -dy * kOne;
+      y1[k] = y[k1];
+      cst[k] = -dy * (kHalf - x[k1]);
+      const bool top = dy == 0 && dx[k] > 0, left = dy < 0;
+      bias[k] = top || left ? 0 : -1;
+    }
+    const double inv_area = 1.0 / double(area);
+    double d0[3], d1[3], base[3];
+    for (int q = 0; q < 3; ++q) {
+      d0[q] = double(c[0]->c[q]) - c[2]->c[q];
+      d1[q] = double(c[1]->c[q]) - c[2]->c[q];
+      base[q] = c[2]->c[q];
+    }
+    const int channels = raster_.channels;
+    const int o1 = channels <= 2 ? 0 : 1, o2 = channels <= 2 ? 0 : 2;
     double sum = 0;
-    const Vertex* corners[3] = {&a, &b, &c};
-    for (int y = y0; y <= y1; ++y) {
-      // Only pixels near the row's span of the triangle (one pixel of margin each side)
-      // can be inside; the exact test below decides, so the span only saves work.
-      const double py = y + 0.5;
-      double span_lo = INFINITY, span_hi = -INFINITY;
+    for (int64_t j = j0; j <= j1; ++j) {
+      const int64_t py = j * kOne + kHalf;
+      int64_t lo = i0, hi = i1, e[3];
       for (int k = 0; k < 3; ++k) {
-        const Vertex& u = *corners[k];
-        const Vertex& v = *corners[(k + 1) % 3];
-        const double uy = u.y, vy = v.y;
-        if (py < std::min(uy, vy) - 1 || py > std::max(uy, vy) + 1) continue;
-        double x_at;
-        if (std::abs(vy - uy) < 1e-9) {
-          span_lo = std::min({span_lo, double(u.x), double(v.x)});
-          span_hi = std::max({span_hi, double(u.x), double(v.x)});
-          continue;
+        e[k] = dx[k] * (py - y1[k]) + cst[k];  // E_k at i = 0
+        const int64_t owned = e[k] + bias[k];  // owned iff a[k] i + owned >= 0
+        if (a[k] > 0) {
+          lo = std::max(lo, -floor_div(owned, a[k]));
+        } else if (a[k] < 0) {
+          hi = std::min(hi, floor_div(owned, -a[k]));
+        } else if (owned < 0) {
+          lo = hi + 1;
         }
-        const double t = std::clamp((py - uy) / (vy - uy), 0.0, 1.0);
-        x_at = u.x + t * (double(v.x) - u.x);
-        span_lo = std::min(span_lo, x_at);
-        span_hi = std::max(span_hi, x_at);
       }
-      if (!(span_lo <= span_hi)) continue;
-      const int xa = std::max(x0, int(std::floor(span_lo - 1.5)));
-      const int xb = std::min(x1, int(std::ceil(span_hi + 0.5)));
-      for (int x = xa; x <= xb; ++x) {
-        Vertex p;
-        p.x = float(x + 0.5);
-        p.y = float(y + 0.5);
-        // Barycentrics; a pixel on a shared edge counts in both triangulations alike.
-        const double la = Orient(p, b, c) / det, lb = Orient(a, p, c) / det;
-        const double lc = 1 - la - lb;
-        if (la < 0 || lb < 0 || lc < 0) continue;
-        if (!whole_ && !InDomain(raster_, mask_, x, y)) continue;
-        for (int k = 0; k < 3; ++k) {
-          const double ref = raster_.channels <= 2 ? raster_.at(x, y, 0) : raster_.at(x, y, k);
-          const double d = la * ca.c[k] + lb * cb.c[k] + lc * cc.c[k] - ref;
-          sum += d * d;
-        }
+      if (lo > hi) continue;
+      int64_t e0 = a[0] * lo + e[0], e1 = a[1] * lo + e[1];
+      const float* px = &raster_.data[(size_t(j) * size_t(raster_.width) + size_t(lo)) * size_t(channels)];
+      for (int64_t i = lo; i <= hi; ++i, e0 += a[0], e1 += a[1], px += channels) {
+        if (!whole_ && !InDomain(raster_, mask_, int(i), int(j))) continue;
+        const double w0 = double(e0) * inv_area, w1 = double(e1) * inv_area;
+        const double r = base[0] + w0 * d0[0] + w1 * d1[0] - px[0];
+        const double g = base[1] + w0 * d0[1] + w1 * d1[1] - px[o1];
+        const double b = base[2] + w0 * d0[2] + w1 * d1[2] - px[o2];
+        sum += r * r + g * g + b * b;
       }
     }
     return sum;
@@ -115,7 +205,9 @@ class QuadError {
 const double* FlipErrorCache::Find(const std::array<uint32_t, 6>& key) const {
   const auto it = std::lower_bound(previous_.begin(), previous_.end(), key,
                                    [](const Entry& e, const std::array<uint32_t, 6>& k) { return e.key < k; });
-  return it != previous_.end() && it->key == key ? &it->error : nullptr;
+  if (it == previous_.end() || it->key != key) return nullptr;
+  hits_.fetch_add(1, std::memory_order_relaxed);
+  return &it->error;
 }
 
 void FlipErrorCache::EndCall() {
@@ -133,41 +225,24 @@ int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int p
   const int width = raster.width, height = raster.height;
   if (passes <= 0 || mesh.triangles.empty() || width <= 0 || height <= 0) return 0;
   // Vertex colours: the image smoothed by a Gaussian of sigma 1 px, bilinear.
-  cv::Mat3f smooth(height, width);
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      for (int k = 0; k < 3; ++k) smooth(y, x)[k] = raster.channels <= 2 ? raster.at(x, y, 0) : raster.at(x, y, k);
-    }
-  }
-  cv::GaussianBlur(smooth, smooth, cv::Size(0, 0), 1.0, 1.0, cv::BORDER_REFLECT);
   std::vector<Rgb> colour(mesh.vertices.size());
-  for (size_t i = 0; i < mesh.vertices.size(); ++i) {
-    const double fx = std::clamp(double(mesh.vertices[i].x) - 0.5, 0.0, double(width - 1));
-    const double fy = std::clamp(double(mesh.vertices[i].y) - 0.5, 0.0, double(height - 1));
-    const int ix = std::min(int(fx), width - 2 < 0 ? 0 : width - 2);
-    const int iy = std::min(int(fy), height - 2 < 0 ? 0 : height - 2);
-    const int jx = std::min(ix + 1, width - 1), jy = std::min(iy + 1, height - 1);
-    const double u = fx - ix, v = fy - iy;
-    for (int k = 0; k < 3; ++k) {
-      colour[i].c[k] = float((1 - u) * (1 - v) * smooth(iy, ix)[k] + u * (1 - v) * smooth(iy, jx)[k] +
-                             (1 - u) * v * smooth(jy, ix)[k] + u * v * smooth(jy, jx)[k]);
-    }
-  }
+  fit_internal::ForEachChunk(mesh.vertices.size(), 4096, threads, [&](size_t, size_t i0, size_t i1) {
+    for (size_t i = i0; i < i1; ++i) colour[i] = SmoothedColour(raster, mesh.vertices[i]);
+  });
+  FlipErrorCache local;
+  if (cache == nullptr) cache = &local;
   const QuadError error(mesh, raster, mask, colour);
+  // The error of triangle t, from the cache when it holds it; key_of is its cache key.
   auto key_of = [&](const std::array<uint32_t, 3>& t) {
     std::array<uint32_t, 6> key;
-    for (int k = 0; k < 3; ++k) {
-      std::memcpy(&key[2 * k], &mesh.vertices[t[k]].x, 4);
-      std::memcpy(&key[2 * k + 1], &mesh.vertices[t[k]].y, 4);
-    }
+    CanonicalCorners(mesh, t, &key);
     return key;
   };
-  // The error of triangle t, from the cache when it holds it.
   auto triangle_error_of = [&](const std::array<uint32_t, 3>& t) {
-    if (cache != nullptr) {
-      if (const double* e = cache->Find(key_of(t))) return *e;
-    }
-    return error.Triangle(t);
+    std::array<uint32_t, 6> key;
+    const std::array<uint32_t, 3> corners = CanonicalCorners(mesh, t, &key);
+    if (const double* e = cache->Find(key)) return *e;
+    return error.Triangle(corners);
   };
   const double min_sine = std::sin(min_angle_deg * 3.14159265358979323846 / 180.0);
   std::vector<Edge> creases = mesh.crease_edges;
@@ -252,12 +327,10 @@ int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int p
         c.after1 = triangle_error_of({c.r, c.s, c.e.b});
       }
     });
-    if (cache != nullptr) {
-      for (uint32_t t : unknown) cache->Add(key_of(mesh.triangles[t].v), triangle_error[t]);
-      for (const Candidate& c : candidates) {
-        cache->Add(key_of({c.r, c.s, c.e.a}), c.after0);
-        cache->Add(key_of({c.r, c.s, c.e.b}), c.after1);
-      }
+    for (uint32_t t : unknown) cache->Add(key_of(mesh.triangles[t].v), triangle_error[t]);
+    for (const Candidate& c : candidates) {
+      cache->Add(key_of({c.r, c.s, c.e.a}), c.after0);
+      cache->Add(key_of({c.r, c.s, c.e.b}), c.after1);
     }
     std::vector<uint8_t> touched(mesh.triangles.size(), 0);
     int pass_flips = 0;
@@ -284,7 +357,7 @@ int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int p
     flips += pass_flips;
     if (pass_flips == 0) break;
   }
-  if (cache != nullptr) cache->EndCall();
+  cache->EndCall();
   return flips;
 }
 

@@ -33,6 +33,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -189,18 +190,22 @@ std::vector<float> ErrorMap(const ColorFit& fit, const Raster& target, const Ras
 // has an angle under min_angle_deg. Orientation is kept. Returns the number of flips. The
 // errors are computed on `threads` threads; the result is the same for any thread count.
 //
-// `cache` (optional) carries the triangle errors from one call to the next on meshes of the
-// same raster and mask (the vectorizer's rounds re-triangulate, and most triangles come
-// back): an error is keyed by its triangle's three vertex positions in order, so a cached
-// value is the value the call would compute. It keeps the errors of the last call only.
+// A triangle's error is computed with its corners in one canonical order (ascending x, then
+// y), so it depends on the three positions only, not on how a mesh lists them.
+// `cache` (optional) carries the triangle errors from one call to the next on meshes of the same raster and mask (the vectorizer's rounds re-triangulate,
+// and most triangles come back): an error is keyed by its triangle's three vertex positions
+// in the canonical order, so a cached value is the value the call would compute. It keeps
+// the errors of the last call only.
 class FlipErrorCache {
  public:
   struct Entry {
-    std::array<uint32_t, 6> key;  // x, y of the three vertices, float bits, in order
+    std::array<uint32_t, 6> key;  // x, y of the three vertices, float bits, canonical order
     double error;
   };
   // The cached error of key, or nullptr. Safe to call from several threads.
   const double* Find(const std::array<uint32_t, 6>& key) const;
+  // Lookups Find has answered so far.
+  size_t hits() const { return hits_.load(); }
   // Records an error computed or found by the current call.
   void Add(const std::array<uint32_t, 6>& key, double error) { current_.push_back({key, error}); }
   // Ends a call: what it recorded becomes what later calls find.
@@ -210,6 +215,7 @@ class FlipErrorCache {
  private:
   std::vector<Entry> previous_;  // sorted by key, unique
   std::vector<Entry> current_;
+  mutable std::atomic<size_t> hits_{0};
 };
 
 int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int passes,
