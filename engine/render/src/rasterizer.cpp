@@ -95,13 +95,6 @@ RowBandBins BinTrianglesByRowBand(const std::vector<Triangle>& triangles, const 
 
 namespace {
 
-// True when the triangle's candidate rows may intersect [row0, row1).
-inline bool MayTouchRows(const FixedPoint& a, const FixedPoint& b, const FixedPoint& c, int row0,
-                         int row1) {
-  const int64_t miny = std::min({a.y, b.y, c.y}), maxy = std::max({a.y, b.y, c.y});
-  return FloorDiv(maxy - kHalf, kOne) >= row0 && CeilDiv(miny - kHalf, kOne) < row1;
-}
-
 bool ValidViewport(const Viewport& vp) {
   return vp.width > 0 && vp.height > 0 && std::isfinite(vp.scale_x) && std::isfinite(vp.scale_y) &&
          vp.scale_x > 0 && vp.scale_y > 0 && std::isfinite(vp.origin_x) && std::isfinite(vp.origin_y);
@@ -120,18 +113,23 @@ CoverageMap MapPixels(const std::vector<Triangle>& triangles, const std::vector<
   map.height = viewport.height;
   const size_t npix = size_t(viewport.width) * size_t(viewport.height);
   constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
-  std::vector<PixelSample> dense(npix, PixelSample{0, kNone, 0, 0, 0});
+  std::vector<PixelSample> dense;
+  internal::ReserveLarge(dense, npix);
+  dense.assign(npix, PixelSample{0, kNone, 0, 0, 0});
   const std::vector<FixedPoint> pts = ToFixedAll(fine, viewport, 0);
-  const uint32_t nv = uint32_t(fine.size());
   const int width = viewport.width;
-  ForEachRowBand(viewport.height, 0, [&](int, int row0, int row1) {
+  // Row bands of cache-sized pixels, each listing its triangles in increasing index (as
+  // DrawFineMesh): the lowest index still wins, and a band's pixels stay in cache while
+  // its triangles are scanned.
+  const RowBandBins bins =
+      BinTrianglesByRowBand(triangles, pts, width, viewport.height, BandRowsFor(width, sizeof(PixelSample)), 0);
+  ForEachBand(bins.bands(), 0, viewport.height, [&](int band) {
+    const int row0 = band * bins.band_rows, row1 = std::min(viewport.height, row0 + bins.band_rows);
     TriangleSetup s;
-    for (uint32_t t = 0; t < triangles.size(); ++t) {
+    for (uint32_t k = bins.offsets[size_t(band)]; k < bins.offsets[size_t(band) + 1]; ++k) {
+      const uint32_t t = bins.triangles[k];
       const auto& v = triangles[t].v;
-      if (v[0] >= nv || v[1] >= nv || v[2] >= nv) continue;
-      const FixedPoint &a = pts[v[0]], &b = pts[v[1]], &c = pts[v[2]];
-      if (!a.valid() || !b.valid() || !c.valid() || !MayTouchRows(a, b, c, row0, row1)) continue;
-      if (!SetupTriangle(a, b, c, width, viewport.height, s)) continue;
+      if (!SetupTriangle(pts[v[0]], pts[v[1]], pts[v[2]], width, viewport.height, s)) continue;  // binned: true
       const double inv_area = 1.0 / double(s.area);
       ScanTriangle(s, row0, row1, [&](int i, int j, int64_t e0, int64_t e1, int64_t e2) {
         PixelSample& ps = dense[size_t(j) * width + i];
