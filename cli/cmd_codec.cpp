@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // sdvi compress (raw -> Draco payload) and sdvi decompress (any payload -> raw).
 #include <cstdio>
+#include <map>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -101,12 +102,20 @@ void RegisterCompress(CLI::App& app, Outcome& outcome) {
       {"sdvi compress in.sdvi -o small.sdvi",
        "sdvi compress in.sdvi -o small.sdvi --reference original.png   # quantise from the fit's error",
        "sdvi compress in.sdvi -o small.sdvi --position-bits 14 --color-bits 8 --speed 0",
+       "sdvi compress in.sdvi -o small.sdvi --colors smallest   # decorrelated colours where smaller",
        "sdvi compress raw/ -O small/ -j 2   # every .sdvi in raw/"});
   AddOutput(c, a->output, "the compressed .sdvi file");
   AddInputs(c, a->input, "the .sdvi file (any payload; '-' reads standard input)", {{"sdvi"}, "sdvi", "", {}});
   c->add_option("--position-bits", o.position_bits, "quantisation bits for x, y (0: automatic)")->check(CLI::Range(0, 30));
   c->add_option("--color-bits", o.color_bits, "quantisation bits for R, G, B (0: automatic)")->check(CLI::Range(0, 30));
   c->add_option("--speed", o.speed, "Draco speed: 0 smallest file .. 10 fastest")->check(CLI::Range(0, 10));
+  c->add_option("--colors", o.color_coding,
+                "how colours are coded: rgb (payload 1.0), decorrelated (L, C1, C2; payload 1.1), smallest "
+                "(both, the smaller file) (spec/FORMAT.md 8.2)")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, ColorCoding>{{"rgb", ColorCoding::kRgb},
+                                                                              {"decorrelated", ColorCoding::kDecorrelated},
+                                                                              {"smallest", ColorCoding::kSmallest}}))
+      ->default_str("rgb");
   MarkInput(c, a->reference);
   auto* reference = c->add_option("--reference", a->reference,
                                   "the original image: the automatic bit depths keep the error added to ~1% of the fit's")

@@ -146,6 +146,7 @@ int Info(const InfoArgs& args) {
                                           std::to_string(draco->version_minor)},
                   {"position_bits", draco->position_bits},
                   {"color_bits", draco->color_bits},
+                  {"colors", draco->grey ? "grey" : draco->decorrelated ? "decorrelated" : "rgb"},
                   {"speed", draco->speed},
                   {"draco_bytes", draco->draco_bytes},
                   {"tag_bytes", draco->tag_bytes}};
@@ -189,10 +190,10 @@ int Info(const InfoArgs& args) {
     const auto& d = j["draco"];
     std::printf("crease edges       %llu\n", j["crease_edges"].get<unsigned long long>());
     std::printf("corners            %llu explicit\n", j["corners_explicit"].get<unsigned long long>());
-    std::printf("Draco payload      version %s, %d position bits, %d colour bits, speed %d "
+    std::printf("Draco payload      version %s, %d position bits, %d colour bits (%s), speed %d "
                 "(%llu Draco + %llu tag bytes)\n",
                 d["payload_version"].get<std::string>().c_str(), d["position_bits"].get<int>(),
-                d["color_bits"].get<int>(), d["speed"].get<int>(),
+                d["color_bits"].get<int>(), d["colors"].get<std::string>().c_str(), d["speed"].get<int>(),
                 d["draco_bytes"].get<unsigned long long>(), d["tag_bytes"].get<unsigned long long>());
   }
   if (j.value("feature_layer_in_payload", false))

@@ -163,6 +163,7 @@ Status VectorizeCommand(VectorizeArgs& args) {
     rate_report["color_bits"] = compressed.color_bits;
     rate_report["colors_refitted"] = compressed.colors_refitted;
     rate_report["mended_vertices"] = compressed.mended_vertices;
+    rate_report["colors_decorrelated"] = compressed.colors_decorrelated;
     rate_report["slope_db"] = compressed.slope_db;
     rate_report["candidates"] = compressed.evaluations;
   } else {

@@ -2,6 +2,7 @@
 // The Draco payload: header, Draco mesh, tag stream (spec/FORMAT.md, "Compressed
 // payload (Draco)").
 #include <algorithm>
+#include <array>
 #include <cfloat>
 #include <cmath>
 #include <cstring>
@@ -12,6 +13,7 @@
 
 #include <draco/compression/decode.h>
 #include <draco/compression/encode.h>
+#include <draco/compression/expert_encode.h>
 #include <draco/mesh/mesh.h>
 
 #include "range_coder.h"
@@ -35,17 +37,36 @@ constexpr bool kRejectBadChecksum = true;
 constexpr char kMagic[4] = {'S', 'D', 'R', 'C'};
 constexpr uint8_t kVersionMajor = 1;
 constexpr uint8_t kVersionMinor = 0;
+constexpr uint8_t kVersionMinorDecorrelated = 1;  // the first minor version with flag bit 3
 constexpr size_t kHeaderSize = 40;
 constexpr size_t kCrcOffset = 36;
 constexpr uint8_t kFlagVertexIds = 1;     // the Draco mesh has the vertex id attribute
 constexpr uint8_t kFlagFeatureLayer = 2;  // the tag stream carries the feature layer
 constexpr uint8_t kFlagGrey = 4;          // R = G = B everywhere: COLOR has 1 component
-constexpr uint8_t kKnownFlags = kFlagVertexIds | kFlagFeatureLayer | kFlagGrey;
+constexpr uint8_t kFlagDecorrelated = 8;  // colours as L (COLOR), C1, C2 (GENERIC ids 3, 4)
+constexpr uint8_t kKnownFlags = kFlagVertexIds | kFlagFeatureLayer | kFlagGrey | kFlagDecorrelated;
 
 // Draco attribute unique ids, in the order the attributes are added.
 constexpr uint32_t kPositionUniqueId = 0;
 constexpr uint32_t kColorUniqueId = 1;
 constexpr uint32_t kVertexIdUniqueId = 2;
+constexpr uint32_t kC1UniqueId = 3;
+constexpr uint32_t kC2UniqueId = 4;
+
+// The orthonormal luminance/opponent transform of decorrelated colours (spec/FORMAT.md
+// 8.2), computed in double and rounded to float.
+const double kInvSqrt3 = 1 / std::sqrt(3.0), kInvSqrt2 = 1 / std::sqrt(2.0), kInvSqrt6 = 1 / std::sqrt(6.0);
+std::array<float, 3> ToDecorrelated(const Vertex& v) {
+  const double r = v.r, g = v.g, b = v.b;
+  return {float((r + g + b) * kInvSqrt3), float((r - b) * kInvSqrt2), float((r - 2 * g + b) * kInvSqrt6)};
+}
+std::array<float, 3> FromDecorrelated(float l, float c1, float c2) {
+  const double y = l * kInvSqrt3, u = c1 * kInvSqrt2, w = c2 * kInvSqrt6;
+  return {float(y + u + w), float(y - 2 * w), float(y - u + w)};
+}
+
+// How the colour attributes of a Draco mesh are laid out.
+enum class ColorLayout { kRgb, kGrey, kDecorrelated, kNone };
 
 void PutU32(std::vector<uint8_t>& out, size_t at, uint32_t v) {
   for (int i = 0; i < 4; ++i) out[at + i] = static_cast<uint8_t>(v >> (8 * i));
@@ -94,8 +115,12 @@ StatusOr<Header> ParseHeader(std::span<const uint8_t> payload, const std::string
     return Status(h.major > kVersionMajor ? StatusCode::kUnsupportedVersion : StatusCode::kCorrupt,
                   what + " has version " + std::to_string(h.major) + "." +
                       std::to_string(h.minor) + "; this build reads version 1");
-  if (h.flags & ~kKnownFlags)
-    return Status(StatusCode::kCorrupt, what + " has unknown flags " + std::to_string(h.flags));
+  if (h.flags & ~kKnownFlags)  // a later minor version's flag: unsupported; else damage
+    return Status(h.minor > kVersionMinorDecorrelated ? StatusCode::kUnsupportedVersion : StatusCode::kCorrupt,
+                  what + " (version " + std::to_string(h.major) + "." + std::to_string(h.minor) +
+                      ") has flags " + std::to_string(h.flags) + " this build does not know (it reads 1.0 and 1.1)");
+  if ((h.flags & kFlagGrey) && (h.flags & kFlagDecorrelated))
+    return Status(StatusCode::kCorrupt, what + " flags both grey and decorrelated colours");
 
   const uint64_t expected = kHeaderSize + uint64_t{h.draco_size} + h.tags_size;
   if (payload.size() < expected)
@@ -124,7 +149,8 @@ bool ReadAttribute(const draco::PointAttribute* attribute, uint32_t point, T* ou
   return attribute->ConvertValue<T>(index, out);
 }
 
-StatusOr<DecodedMesh> DecodeDracoMesh(std::span<const uint8_t> bytes, const std::string& source) {
+StatusOr<DecodedMesh> DecodeDracoMesh(std::span<const uint8_t> bytes, const std::string& source,
+                                      bool decorrelated) {
   const std::string what = source + ": Draco mesh";
   draco::DecoderBuffer buffer;
   buffer.Init(reinterpret_cast<const char*>(bytes.data()), bytes.size());
@@ -147,18 +173,34 @@ StatusOr<DecodedMesh> DecodeDracoMesh(std::span<const uint8_t> bytes, const std:
   if (!color || color->attribute_type() != draco::GeometryAttribute::COLOR ||
       (color->num_components() != 3 && color->num_components() != 1))
     return Status(StatusCode::kCorrupt, what + " lacks the 3- or 1-component COLOR attribute (unique id 1)");
+  const draco::PointAttribute* c1 = mesh.GetAttributeByUniqueId(kC1UniqueId);
+  const draco::PointAttribute* c2 = mesh.GetAttributeByUniqueId(kC2UniqueId);
+  if (decorrelated) {
+    auto opponent = [](const draco::PointAttribute* a) {
+      return a && a->attribute_type() == draco::GeometryAttribute::GENERIC && a->num_components() == 1 &&
+             a->data_type() == draco::DT_FLOAT32;
+    };
+    if (color->num_components() != 1 || !opponent(c1) || !opponent(c2))
+      return Status(StatusCode::kCorrupt, what + " lacks the decorrelated colours its header flags (1-component "
+                                                 "COLOR, float32 GENERIC unique ids 3 and 4)");
+  }
   if (id && (id->attribute_type() != draco::GeometryAttribute::GENERIC ||
              id->num_components() != 1 || id->data_type() != draco::DT_UINT32))
     return Status(StatusCode::kCorrupt, what + ": attribute unique id 2 is not a 1-component uint32 GENERIC");
   DecodedMesh out;
-  out.grey = color->num_components() == 1;
+  out.grey = color->num_components() == 1 && !decorrelated;
   const uint32_t n = mesh.num_points();
   out.points.resize(n);
   if (id) out.ids.resize(n);
   for (uint32_t p = 0; p < n; ++p) {
     float xy[2], rgb[3];
-    const bool color_ok = ReadAttribute(color, p, rgb);  // 1 or 3 components
+    bool color_ok = ReadAttribute(color, p, rgb);  // 1 or 3 components
     if (out.grey) rgb[1] = rgb[2] = rgb[0];
+    if (decorrelated) {
+      color_ok = color_ok && ReadAttribute(c1, p, &rgb[1]) && ReadAttribute(c2, p, &rgb[2]);
+      const std::array<float, 3> back = FromDecorrelated(rgb[0], rgb[1], rgb[2]);
+      std::copy(back.begin(), back.end(), rgb);
+    }
     if (!ReadAttribute(position, p, xy) || !color_ok ||
         (id && !ReadAttribute(id, p, &out.ids[p])))
       return Status(StatusCode::kCorrupt, what + ": point " + std::to_string(p) +
@@ -179,8 +221,10 @@ StatusOr<DecodedMesh> DecodeDracoMesh(std::span<const uint8_t> bytes, const std:
 }
 
 // The Draco mesh of image's control mesh, with or without the vertex id attribute.
-std::unique_ptr<draco::Mesh> BuildDracoMesh(const Image& image, bool with_ids, bool grey,
-                                            bool with_color = true) {
+std::unique_ptr<draco::Mesh> BuildDracoMesh(const Image& image, bool with_ids, ColorLayout layout) {
+  const bool grey = layout == ColorLayout::kGrey;
+  const bool with_color = layout != ColorLayout::kNone;
+  const bool decorrelated = layout == ColorLayout::kDecorrelated;
   auto mesh = std::make_unique<draco::Mesh>();
   const uint32_t n = static_cast<uint32_t>(image.vertices.size());
   mesh->set_num_points(n);
@@ -188,13 +232,22 @@ std::unique_ptr<draco::Mesh> BuildDracoMesh(const Image& image, bool with_ids, b
   position.Init(draco::GeometryAttribute::POSITION, nullptr, 2, draco::DT_FLOAT32, false,
                 2 * sizeof(float), 0);
   draco::GeometryAttribute color;
-  const int color_components = grey ? 1 : 3;
+  const int color_components = grey || decorrelated ? 1 : 3;
   color.Init(draco::GeometryAttribute::COLOR, nullptr, color_components, draco::DT_FLOAT32, false,
              color_components * sizeof(float), 0);
   const int position_id = mesh->AddAttribute(position, true, n);
   mesh->attribute(position_id)->set_unique_id(kPositionUniqueId);
   const int color_id = with_color ? mesh->AddAttribute(color, true, n) : -1;
   if (with_color) mesh->attribute(color_id)->set_unique_id(kColorUniqueId);
+  int c1_id = -1, c2_id = -1;
+  if (decorrelated) {
+    draco::GeometryAttribute opponent;
+    opponent.Init(draco::GeometryAttribute::GENERIC, nullptr, 1, draco::DT_FLOAT32, false, sizeof(float), 0);
+    c1_id = mesh->AddAttribute(opponent, true, n);
+    mesh->attribute(c1_id)->set_unique_id(kC1UniqueId);
+    c2_id = mesh->AddAttribute(opponent, true, n);
+    mesh->attribute(c2_id)->set_unique_id(kC2UniqueId);
+  }
   int id_id = -1;
   if (with_ids) {
     draco::GeometryAttribute id;
@@ -208,7 +261,14 @@ std::unique_ptr<draco::Mesh> BuildDracoMesh(const Image& image, bool with_ids, b
     const float xy[2] = {v.x, v.y};
     const float rgb[3] = {v.r, v.g, v.b};
     mesh->attribute(position_id)->SetAttributeValue(draco::AttributeValueIndex(i), xy);
-    if (with_color) mesh->attribute(color_id)->SetAttributeValue(draco::AttributeValueIndex(i), rgb);
+    if (decorrelated) {
+      const std::array<float, 3> lcc = ToDecorrelated(v);
+      mesh->attribute(color_id)->SetAttributeValue(draco::AttributeValueIndex(i), &lcc[0]);
+      mesh->attribute(c1_id)->SetAttributeValue(draco::AttributeValueIndex(i), &lcc[1]);
+      mesh->attribute(c2_id)->SetAttributeValue(draco::AttributeValueIndex(i), &lcc[2]);
+    } else if (with_color) {
+      mesh->attribute(color_id)->SetAttributeValue(draco::AttributeValueIndex(i), rgb);
+    }
     if (with_ids) mesh->attribute(id_id)->SetAttributeValue(draco::AttributeValueIndex(i), &i);
   }
   mesh->SetNumFaces(image.triangles.size());
@@ -229,6 +289,46 @@ StatusOr<std::vector<uint8_t>> EncodeDracoMesh(const draco::Mesh& mesh, int meth
   encoder.SetEncodingMethod(method);
   draco::EncoderBuffer buffer;
   const draco::Status status = encoder.EncodeMeshToBuffer(mesh, &buffer);
+  if (!status.ok())
+    return Status(StatusCode::kEncodeFailed, "Draco encoder: " + status.error_msg_string());
+  const auto* data = reinterpret_cast<const uint8_t*>(buffer.data());
+  return std::vector<uint8_t>(data, data + buffer.size());
+}
+
+// A mesh of BuildDracoMesh(kDecorrelated): positions at position_bits as EncodeDracoMesh
+// does; L, C1, C2 each on its own grid of step color_step from its minimum (Draco's
+// explicit quantization, enough bits to cover its extent), predicted by difference.
+StatusOr<std::vector<uint8_t>> EncodeDecorrelatedMesh(const draco::Mesh& mesh, int method, int position_bits,
+                                                      double color_step, int speed) {
+  draco::ExpertEncoder encoder(mesh);
+  for (int a = 0; a < mesh.num_attributes(); ++a) {
+    const draco::PointAttribute& attribute = *mesh.attribute(a);
+    if (attribute.attribute_type() == draco::GeometryAttribute::POSITION) {
+      encoder.SetAttributeQuantization(a, position_bits);
+      continue;
+    }
+    if (attribute.data_type() != draco::DT_FLOAT32) continue;  // the vertex ids: lossless
+    float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+    for (draco::AttributeValueIndex i(0); i < attribute.size(); ++i) {
+      float value = 0;
+      attribute.GetValue(i, &value);
+      lo = std::min(lo, value);
+      hi = std::max(hi, value);
+    }
+    // One step of margin above the extent against float rounding of the range.
+    const double levels = std::max(double(hi) - double(lo), 0.0) / color_step + 2;
+    const int bits = std::max(1, static_cast<int>(std::ceil(std::log2(levels))));
+    if (bits > kMaxQuantizationBits)
+      return Status(StatusCode::kInvalidArgument, "decorrelated colours need more than " +
+                                                      std::to_string(kMaxQuantizationBits) + " bits");
+    encoder.SetAttributeExplicitQuantization(a, bits, 1, &lo,
+                                             static_cast<float>(color_step * double((1u << bits) - 1)));
+    encoder.SetAttributePredictionScheme(a, draco::PREDICTION_DIFFERENCE);
+  }
+  encoder.SetSpeedOptions(speed, speed);
+  encoder.SetEncodingMethod(method);
+  draco::EncoderBuffer buffer;
+  const draco::Status status = encoder.EncodeToBuffer(&buffer);
   if (!status.ok())
     return Status(StatusCode::kEncodeFailed, "Draco encoder: " + status.error_msg_string());
   const auto* data = reinterpret_cast<const uint8_t*>(buffer.data());
@@ -406,12 +506,14 @@ int DefaultColorBits(const Image& image, double reference_mse) {
   return BitsForStep(AttributeRange(image, true, &max_abs), step);
 }
 
-ErrorBound CompressionErrorBound(const Image& image, int position_bits, int color_bits) {
+ErrorBound CompressionErrorBound(const Image& image, int position_bits, int color_bits, bool decorrelated) {
   // Half a step, plus the float rounding of Draco's dequantization (min + q * step).
   auto bound = [&](bool colors, int bits) {
     double max_abs = 0;
     const double range = AttributeRange(image, colors, &max_abs);
     const double step = range / double((uint64_t{1} << bits) - 1);
+    if (colors && decorrelated)  // three components of up to sqrt(3) max_abs, each rounded
+      return kDecorrelatedErrorFactor * (0.5 * step + 16 * FLT_EPSILON * (max_abs + range + step));
     return 0.5 * step + 4 * FLT_EPSILON * (max_abs + range);
   };
   return {bound(false, position_bits), bound(true, color_bits)};
@@ -496,48 +598,54 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
       options.position_bits ? options.position_bits : DefaultPositionBits(image, options.reference_mse);
   const int color_bits =
       options.color_bits ? options.color_bits : DefaultColorBits(image, options.reference_mse);
-  const ErrorBound bound = CompressionErrorBound(image, position_bits, color_bits);
   const bool grey = std::all_of(image.vertices.begin(), image.vertices.end(), [](const Vertex& v) {
     return std::memcmp(&v.r, &v.g, sizeof(float)) == 0 && std::memcmp(&v.r, &v.b, sizeof(float)) == 0;
   });
+  double max_abs = 0;
+  const double color_step = AttributeRange(image, true, &max_abs) / double((uint64_t{1} << color_bits) - 1);
 
-  // Try, in order: edgebreaker without ids (decoded order = Draco's), edgebreaker with
-  // ids, sequential with ids. Each candidate is decoded and checked before it is kept.
-  std::vector<uint8_t> draco_bytes;
-  std::vector<uint32_t> renumbering;
-  bool with_ids = true;
-  try {
+  // The Draco mesh with colours laid out one way. Try, in order: edgebreaker without ids
+  // (decoded order = Draco's), edgebreaker with ids, sequential with ids. Each candidate
+  // is decoded and checked before it is kept.
+  struct DracoMesh {
+    std::vector<uint8_t> bytes;
+    std::vector<uint32_t> renumbering;  // empty: the identity
+    bool with_ids = true;
+  };
+  auto encode_layout = [&](ColorLayout layout) -> StatusOr<DracoMesh> {
+    const bool decorrelated = layout == ColorLayout::kDecorrelated;
+    const ErrorBound bound = CompressionErrorBound(image, position_bits, color_bits, decorrelated);
+    auto encode = [&](const draco::Mesh& mesh, int method) {
+      return decorrelated ? EncodeDecorrelatedMesh(mesh, method, position_bits, color_step, options.speed)
+                          : EncodeDracoMesh(mesh, method, position_bits, color_bits, options.speed);
+    };
+    DracoMesh out;
     const std::string self = "compressed image (self-check)";
     if (options.speed < 10) {
-      auto mesh_ids = BuildDracoMesh(image, true, grey);
-      SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes_ids,
-                            EncodeDracoMesh(*mesh_ids, draco::MESH_EDGEBREAKER_ENCODING,
-                                            position_bits, color_bits, options.speed));
-      StatusOr<DecodedMesh> decoded_ids = DecodeDracoMesh(bytes_ids, self);
+      auto mesh_ids = BuildDracoMesh(image, true, layout);
+      SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes_ids, encode(*mesh_ids, draco::MESH_EDGEBREAKER_ENCODING));
+      StatusOr<DecodedMesh> decoded_ids = DecodeDracoMesh(bytes_ids, self, decorrelated);
       if (decoded_ids.ok() && MapsBack(*decoded_ids, image, bound)) {
         if (!options.keep_vertex_order && decoded_ids->points.size() == n) {
-          auto mesh_plain = BuildDracoMesh(image, false, grey);
-          StatusOr<std::vector<uint8_t>> bytes_plain = EncodeDracoMesh(
-              *mesh_plain, draco::MESH_EDGEBREAKER_ENCODING, position_bits, color_bits, options.speed);
+          auto mesh_plain = BuildDracoMesh(image, false, layout);
+          StatusOr<std::vector<uint8_t>> bytes_plain = encode(*mesh_plain, draco::MESH_EDGEBREAKER_ENCODING);
           if (bytes_plain.ok()) {
-            StatusOr<DecodedMesh> decoded_plain = DecodeDracoMesh(*bytes_plain, self);
+            StatusOr<DecodedMesh> decoded_plain = DecodeDracoMesh(*bytes_plain, self, decorrelated);
             if (decoded_plain.ok() && SameMesh(*decoded_plain, *decoded_ids)) {
-              draco_bytes = std::move(bytes_plain).value();
-              renumbering.assign(n, 0);
-              for (uint32_t p = 0; p < n; ++p) renumbering[decoded_ids->ids[p]] = p;
-              with_ids = false;
+              out.bytes = std::move(bytes_plain).value();
+              out.renumbering.assign(n, 0);
+              for (uint32_t p = 0; p < n; ++p) out.renumbering[decoded_ids->ids[p]] = p;
+              out.with_ids = false;
             }
           }
         }
-        if (with_ids) draco_bytes = std::move(bytes_ids);
+        if (out.with_ids) out.bytes = std::move(bytes_ids);
       }
     }
-    if (draco_bytes.empty()) {
-      auto mesh_ids = BuildDracoMesh(image, true, grey);
-      SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes,
-                            EncodeDracoMesh(*mesh_ids, draco::MESH_SEQUENTIAL_ENCODING,
-                                            position_bits, color_bits, options.speed));
-      StatusOr<DecodedMesh> decoded = DecodeDracoMesh(bytes, self);
+    if (out.bytes.empty()) {
+      auto mesh_ids = BuildDracoMesh(image, true, layout);
+      SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, encode(*mesh_ids, draco::MESH_SEQUENTIAL_ENCODING));
+      StatusOr<DecodedMesh> decoded = DecodeDracoMesh(bytes, self, decorrelated);
       if (!decoded.ok())
         return Status(StatusCode::kEncodeFailed,
                       "Draco cannot decode its own encoding of the image to compress (" +
@@ -545,11 +653,31 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
       if (!MapsBack(*decoded, image, bound))
         return Status(StatusCode::kEncodeFailed,
                       "Draco does not reproduce the control mesh of the image to compress");
-      draco_bytes = std::move(bytes);
+      out.bytes = std::move(bytes);
+    }
+    return out;
+  };
+
+  DracoMesh chosen;
+  bool decorrelated = false;
+  try {
+    if (grey || options.color_coding != ColorCoding::kDecorrelated) {
+      SDVI_ASSIGN_OR_RETURN(chosen, encode_layout(grey ? ColorLayout::kGrey : ColorLayout::kRgb));
+    }
+    if (!grey && options.color_coding != ColorCoding::kRgb) {
+      StatusOr<DracoMesh> other = encode_layout(ColorLayout::kDecorrelated);
+      if (options.color_coding == ColorCoding::kDecorrelated) SDVI_RETURN_IF_ERROR(other.status());
+      if (other.ok() && (chosen.bytes.empty() || other->bytes.size() < chosen.bytes.size())) {
+        chosen = std::move(other).value();
+        decorrelated = true;
+      }
     }
   } catch (const std::bad_alloc&) {
     return Status(StatusCode::kLimitExceeded, "out of memory while compressing the image");
   }
+  std::vector<uint8_t> draco_bytes = std::move(chosen.bytes);
+  std::vector<uint32_t> renumbering = std::move(chosen.renumbering);
+  const bool with_ids = chosen.with_ids;
   if (renumbering.empty()) {
     renumbering.resize(n);
     std::iota(renumbering.begin(), renumbering.end(), 0u);
@@ -578,10 +706,10 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
   std::vector<uint8_t> payload(kHeaderSize + draco_bytes.size() + tags.size(), 0);
   std::memcpy(payload.data(), kMagic, 4);
   payload[4] = kVersionMajor;
-  payload[5] = kVersionMinor;
+  payload[5] = decorrelated ? kVersionMinorDecorrelated : kVersionMinor;
   payload[6] = static_cast<uint8_t>((with_ids ? kFlagVertexIds : 0) |
                                     (options.feature_layer ? kFlagFeatureLayer : 0) |
-                                    (grey ? kFlagGrey : 0));
+                                    (grey ? kFlagGrey : 0) | (decorrelated ? kFlagDecorrelated : 0));
   payload[7] = static_cast<uint8_t>(position_bits);
   payload[8] = static_cast<uint8_t>(color_bits);
   payload[9] = static_cast<uint8_t>(options.speed);
@@ -621,7 +749,8 @@ Status DecodeDracoPayload(std::span<const uint8_t> payload, const std::string& s
   Image out;
   try {
     SDVI_ASSIGN_OR_RETURN(DecodedMesh mesh,
-                          DecodeDracoMesh(payload.subspan(kHeaderSize, h.draco_size), source_name));
+                          DecodeDracoMesh(payload.subspan(kHeaderSize, h.draco_size), source_name,
+                                          (h.flags & kFlagDecorrelated) != 0));
     if (mesh.grey != ((h.flags & kFlagGrey) != 0))
       return Status(StatusCode::kCorrupt, what + ": the Draco COLOR attribute has " +
                                               (mesh.grey ? "1 component" : "3 components") +
@@ -714,6 +843,7 @@ StatusOr<DracoPayloadInfo> InspectDracoPayload(std::span<const uint8_t> payload,
   info.has_vertex_ids = (h.flags & kFlagVertexIds) != 0;
   info.has_feature_layer = (h.flags & kFlagFeatureLayer) != 0;
   info.grey = (h.flags & kFlagGrey) != 0;
+  info.decorrelated = (h.flags & kFlagDecorrelated) != 0;
   return info;
 }
 
@@ -722,10 +852,9 @@ StatusOr<PartBytes> codec_internal::MeasureDracoParts(std::span<const uint8_t> p
   SDVI_ASSIGN_OR_RETURN(Header h, ParseHeader(payload, source_name));
   Image image;
   SDVI_RETURN_IF_ERROR(DecodeDracoPayload(payload, source_name, &image));
-  const bool grey = (h.flags & kFlagGrey) != 0;
   PartBytes parts;
   try {
-    auto positions_only = BuildDracoMesh(image, false, grey, false);
+    auto positions_only = BuildDracoMesh(image, false, ColorLayout::kNone);
     SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> topology,
                           EncodeDracoMesh(*positions_only, draco::MESH_EDGEBREAKER_ENCODING, 1, 1, h.speed));
     SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> with_positions,

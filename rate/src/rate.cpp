@@ -106,6 +106,7 @@ StatusOr<RateResult> CompressForRate(const VectorizeResult& vectorized, const Ra
     CompressOptions compress;
     compress.position_bits = position_bits;
     compress.color_bits = color_bits;
+    compress.color_coding = options.color_coding;
     // Positions that fold a triangle at these bits: the few vertices of the folds move to
     // nearby grid points (spec/RATE.md 3) instead of every vertex getting a finer step.
     const Image* positions = &image;
@@ -163,6 +164,11 @@ StatusOr<RateResult> CompressForRate(const VectorizeResult& vectorized, const Ra
   result.color_bits = best.color_bits;
   result.colors_refitted = best.colors_refitted;
   result.mended_vertices = best.mended_vertices;
+  {
+    SDVI_ASSIGN_OR_RETURN(SdviFile file, DecodeSdvi(result.file, "rate control"));
+    SDVI_ASSIGN_OR_RETURN(DracoPayloadInfo info, InspectDracoPayload(file.compressed_payload, "rate control"));
+    result.colors_decorrelated = info.decorrelated;
+  }
   return result;
 }
 

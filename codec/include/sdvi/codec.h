@@ -3,8 +3,9 @@
 //
 // The control mesh (vertices, triangles, crease edges, explicit corners) travels as one
 // byte string: a 40-byte header, a Draco mesh (POSITION = (x, y), COLOR = (R, G, B) or
-// one grey value when R = G = B at every vertex, both quantized; optionally a GENERIC
-// uint32 attribute holding original vertex ids) and a tag stream (adaptive binary range
+// one grey value when R = G = B at every vertex, or decorrelated colours L, C1, C2 in three
+// attributes (ColorCoding), all quantized; optionally a GENERIC uint32 attribute holding
+// original vertex ids) and a tag stream (adaptive binary range
 // coding: one bit per mesh edge, crease or not; one per vertex, explicit corner or not;
 // then, by default, the feature layer as walks along crease edges). The rest of the
 // image (size, metadata; the feature layer when the payload does not carry it) stays in
@@ -42,10 +43,21 @@ namespace sdvi {
 // with its margins (3 x 262144 px).
 inline constexpr int kMaxQuantizationBits = 24;
 
+// How the colours travel in a Draco payload (spec/FORMAT.md 8.2). kRgb: one COLOR attribute
+// (R, G, B; one grey value when R = G = B everywhere). kDecorrelated: the orthonormal
+// luminance/opponent transform L = (R + G + B)/sqrt(3), C1 = (R - B)/sqrt(2),
+// C2 = (R - 2G + B)/sqrt(6), each component its own attribute on the same step, predicted
+// by difference: the same squared error in R, G, B, fewer bytes on most photos (Draco codes
+// each attribute's residuals with its own entropy model, so the small opponent residuals no
+// longer share the luminance's). kSmallest: both, the smaller file (kRgb on ties; grey
+// images always kRgb).
+enum class ColorCoding { kRgb, kDecorrelated, kSmallest };
+
 struct CompressOptions {
   int position_bits = 0;  // 1..kMaxQuantizationBits; 0 = from the image size (DefaultPositionBits)
   int color_bits = 0;     // 1..kMaxQuantizationBits; 0 = from the colour range (DefaultColorBits)
   int speed = 0;          // Draco encoding/decoding speed 0 (smallest) .. 10 (fastest)
+  ColorCoding color_coding = ColorCoding::kRgb;
   bool keep_vertex_order = false;  // store original vertex ids (costs bytes)
   bool feature_layer = true;       // carry polylines and pairs in the payload (compactly)
   // Repeat the payload header's settings as container params (spec/FORMAT.md 8): what v1.0
@@ -78,11 +90,17 @@ int DefaultColorBits(const Image& image, double reference_mse = 0);
 
 // Upper bounds of |decoded - original| for positions and colours of image at the
 // given (resolved, non-zero) bit counts: half a Draco quantization step, where the step
-// is the largest per-component extent of the attribute divided by 2^bits - 1.
+// is the largest per-component extent of the attribute divided by 2^bits - 1 (for colours
+// the extent of R, G, B whatever the coding). Decorrelated colours are quantised on that
+// step in L, C1, C2, so an R, G or B component errs by at most
+// kDecorrelatedErrorFactor = 1/sqrt(3) + 1/sqrt(2) + 1/sqrt(6) half steps (its mean squared
+// error is that of RGB coding on the same step).
 struct ErrorBound {
   double position = 0, color = 0;
 };
-ErrorBound CompressionErrorBound(const Image& image, int position_bits, int color_bits);
+inline constexpr double kDecorrelatedErrorFactor = 1.6927053409;
+ErrorBound CompressionErrorBound(const Image& image, int position_bits, int color_bits,
+                                 bool decorrelated = false);
 
 // Positions on the grid of a payload at position_bits, with the defects that rounding makes
 // mended locally (spec/RATE.md section 3). The grid is Draco's: per component
@@ -138,6 +156,7 @@ struct DracoPayloadInfo {
   bool has_vertex_ids = false;
   bool has_feature_layer = false;
   bool grey = false;  // every vertex has R = G = B: one colour component coded
+  bool decorrelated = false;  // colours coded as L, C1, C2 (ColorCoding::kDecorrelated)
 };
 StatusOr<DracoPayloadInfo> InspectDracoPayload(std::span<const uint8_t> payload,
                                                const std::string& source_name);

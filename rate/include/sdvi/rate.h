@@ -31,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "sdvi/codec.h"
 #include "sdvi/image.h"
 #include "sdvi/raster.h"
 #include "sdvi/status.h"
@@ -44,6 +45,9 @@ struct RateOptions {
   bool refit_colors = true;   // also try colours refitted on the quantised positions
   bool search_bits = true;    // false: the conservative steps only (v1 `--compress`)
   int max_steps = 8;          // bit reductions tried per attribute at most
+  // How each candidate codes its colours (sdvi/codec.h): by default RGB or decorrelated,
+  // whichever file is smaller (spec/RATE.md 5).
+  ColorCoding color_coding = ColorCoding::kSmallest;
   int threads = 1;
 };
 
@@ -54,6 +58,7 @@ struct RateResult {
   int position_bits = 0, color_bits = 0;
   bool colors_refitted = false;  // the file holds colours refitted on its positions
   int mended_vertices = 0;     // vertices moved off their nearest grid point to unfold triangles
+  bool colors_decorrelated = false;  // the file codes its colours as L, C1, C2 (sdvi/codec.h)
   double slope_db = 0;        // s used
   int evaluations = 0;        // candidates measured
 };
