@@ -35,6 +35,32 @@ struct FeatureModels {
   BitModel closed;
   std::array<BitModel, 8> stop{};           // closed x vertex class
   std::array<BitModel, 3> choice{};         // candidate position min(j, 2)
+  // Compact pairs (payload 1.1): first as expected, second = first + 1, sharpness as the
+  // j-th entry of the recent values min(j, 3).
+  BitModel pair_first, pair_second;
+  std::array<BitModel, 4> sharpness{};
+};
+
+// The sharpness values of compact pairs seen so far, most recently used first (at most
+// kRecentSharpness): a pair's sharpness is one of them (its position, unary) or new (its 32
+// bits), and moves to the front.
+constexpr size_t kRecentSharpness = 8;
+class RecentSharpness {
+ public:
+  // Position of bits in the list, or size() when absent.
+  size_t Find(uint32_t bits) const {
+    return static_cast<size_t>(std::find(values_.begin(), values_.end(), bits) - values_.begin());
+  }
+  size_t size() const { return values_.size(); }
+  uint32_t operator[](size_t j) const { return values_[j]; }
+  void Use(size_t j, uint32_t bits) {  // j = position, or size() for a new value
+    if (j < values_.size()) values_.erase(values_.begin() + static_cast<std::ptrdiff_t>(j));
+    values_.insert(values_.begin(), bits);
+    if (values_.size() > kRecentSharpness) values_.pop_back();
+  }
+
+ private:
+  std::vector<uint32_t> values_;
 };
 
 // Vertex class for the stop bit: 0 = crease degree 0 or 1, 1 = degree 2, 2 = degree 2
@@ -161,12 +187,27 @@ std::vector<uint8_t> EncodeTags(uint32_t vertex_count, const std::vector<MeshEdg
     }
     EncodeCount(rc, m, static_cast<uint32_t>(tags.pairs.size()));
     const int polyline_bits = IndexBits(tags.polylines.size());
+    uint32_t expected_first = 0;
+    RecentSharpness recent;
     for (const FeaturePair& pair : tags.pairs) {
-      rc.EncodeDirect(pair.first, polyline_bits);
-      rc.EncodeDirect(pair.second, polyline_bits);
       uint32_t sharpness_bits;
       std::memcpy(&sharpness_bits, &pair.sharpness, 4);
-      rc.EncodeDirect(sharpness_bits, 32);
+      if (!tags.compact_pairs) {
+        rc.EncodeDirect(pair.first, polyline_bits);
+        rc.EncodeDirect(pair.second, polyline_bits);
+        rc.EncodeDirect(sharpness_bits, 32);
+        continue;
+      }
+      rc.Encode(m.pair_first, pair.first == expected_first);
+      if (pair.first != expected_first) rc.EncodeDirect(pair.first, polyline_bits);
+      rc.Encode(m.pair_second, pair.second == pair.first + 1);
+      if (pair.second != pair.first + 1) rc.EncodeDirect(pair.second, polyline_bits);
+      expected_first = pair.second + 1;
+      const size_t at = recent.Find(sharpness_bits);
+      for (size_t j = 0; j < recent.size() && j <= at; ++j)
+        rc.Encode(m.sharpness[std::min<size_t>(j, 3)], j == at);
+      if (at == recent.size()) rc.EncodeDirect(sharpness_bits, 32);
+      recent.Use(at, sharpness_bits);
     }
   }
   return rc.Finish();
@@ -174,7 +215,7 @@ std::vector<uint8_t> EncodeTags(uint32_t vertex_count, const std::vector<MeshEdg
 
 Status DecodeTags(std::span<const uint8_t> bytes, uint32_t vertex_count,
                   const std::vector<MeshEdge>& edges, uint32_t expected_crease_edges,
-                  uint32_t expected_corners, bool has_feature_layer,
+                  uint32_t expected_corners, bool has_feature_layer, bool compact_pairs,
                   const std::string& source_name, Tags* tags) {
   const std::string what = source_name + ": Draco payload tag stream";
   RangeDecoder rc(bytes);
@@ -256,10 +297,29 @@ Status DecodeTags(std::span<const uint8_t> bytes, uint32_t vertex_count,
                                               " feature pairs for " + std::to_string(count) + " polylines");
     const int polyline_bits = IndexBits(count);
     out.pairs.resize(pair_count);
+    uint64_t expected_first = 0;
+    RecentSharpness recent;
     for (FeaturePair& pair : out.pairs) {
-      pair.first = rc.DecodeDirect(polyline_bits);
-      pair.second = rc.DecodeDirect(polyline_bits);
-      const uint32_t sharpness_bits = rc.DecodeDirect(32);
+      uint32_t sharpness_bits = 0;
+      if (!compact_pairs) {
+        pair.first = rc.DecodeDirect(polyline_bits);
+        pair.second = rc.DecodeDirect(polyline_bits);
+        sharpness_bits = rc.DecodeDirect(32);
+      } else {
+        const uint64_t first = rc.Decode(m.pair_first) ? expected_first : rc.DecodeDirect(polyline_bits);
+        const uint64_t second = rc.Decode(m.pair_second) ? first + 1 : rc.DecodeDirect(polyline_bits);
+        if (first >= count || second >= count)
+          return Status(StatusCode::kCorrupt, what + ": a feature pair names polyline " +
+                                                  std::to_string(std::max(first, second)) + " of " +
+                                                  std::to_string(count));
+        pair.first = static_cast<uint32_t>(first);
+        pair.second = static_cast<uint32_t>(second);
+        expected_first = second + 1;
+        size_t at = 0;
+        while (at < recent.size() && !rc.Decode(m.sharpness[std::min<size_t>(at, 3)])) ++at;
+        sharpness_bits = at < recent.size() ? recent[at] : rc.DecodeDirect(32);
+        recent.Use(at, sharpness_bits);
+      }
       std::memcpy(&pair.sharpness, &sharpness_bits, 4);
       if (pair.first >= count || pair.second >= count)
         return Status(StatusCode::kCorrupt, what + ": a feature pair names polyline " +

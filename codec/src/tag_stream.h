@@ -11,7 +11,11 @@
 // 3. Feature layer (when present): polyline count; per polyline a closed bit, the first
 //    vertex, then per vertex a stop bit and, unless stopping, the next vertex as the
 //    choice among the current vertex's crease neighbours (ascending, the previous vertex
-//    left out) or an escape with the index written out. Then the pairs.
+//    left out) or an escape with the index written out. Then the pairs: their polyline
+//    indices and sharpness written out (payload 1.0) or, compact (payload 1.1), the first
+//    polyline as expected (the previous pair's second + 1) or written out, the second as
+//    first + 1 or written out, the sharpness as one of the 8 most recently used values or
+//    written out.
 #pragma once
 
 #include <cstdint>
@@ -41,6 +45,7 @@ struct Tags {
   bool has_feature_layer = false;
   std::vector<FeaturePolyline> polylines;  // vertex indices < vertex count
   std::vector<FeaturePair> pairs;          // polyline indices < polylines.size()
+  bool compact_pairs = true;               // the pairs coded compactly (payload 1.1)
 };
 
 // Codes tags of a mesh with vertex_count vertices and the given edges.
@@ -52,7 +57,7 @@ std::vector<uint8_t> EncodeTags(uint32_t vertex_count, const std::vector<MeshEdg
 // differ from the header's.
 Status DecodeTags(std::span<const uint8_t> bytes, uint32_t vertex_count,
                   const std::vector<MeshEdge>& edges, uint32_t expected_crease_edges,
-                  uint32_t expected_corners, bool has_feature_layer,
+                  uint32_t expected_corners, bool has_feature_layer, bool compact_pairs,
                   const std::string& source_name, Tags* tags);
 
 // The parts of a Draco payload (PartBytes in sdvi/codec.h; container = its 40-byte header);
