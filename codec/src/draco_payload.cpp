@@ -36,7 +36,7 @@ constexpr bool kRejectBadChecksum = true;
 // Header layout (little-endian), 40 bytes.
 constexpr char kMagic[4] = {'S', 'D', 'R', 'C'};
 constexpr uint8_t kVersionMajor = 1;
-// Written: 1.1 (flag bits 3 and 4 allowed); read: 1.0 and 1.1 (spec/FORMAT.md 8.1).
+// Written: 1.1 (flag bits 3, 4 and 5 allowed); read: 1.0 and 1.1 (spec/FORMAT.md 8.1).
 constexpr uint8_t kVersionMinor = 1;
 constexpr size_t kHeaderSize = 40;
 constexpr size_t kCrcOffset = 36;
@@ -45,8 +45,9 @@ constexpr uint8_t kFlagFeatureLayer = 2;  // the tag stream carries the feature 
 constexpr uint8_t kFlagGrey = 4;          // R = G = B everywhere: COLOR has 1 component
 constexpr uint8_t kFlagDecorrelated = 8;  // colours as L (COLOR), C1, C2 (GENERIC ids 3, 4)
 constexpr uint8_t kFlagCompactPairs = 16;  // the feature layer's pairs coded compactly
-constexpr uint8_t kKnownFlags =
-    kFlagVertexIds | kFlagFeatureLayer | kFlagGrey | kFlagDecorrelated | kFlagCompactPairs;
+constexpr uint8_t kFlagRankedStarts = 32;  // the feature layer's polyline starts ranked
+constexpr uint8_t kKnownFlags = kFlagVertexIds | kFlagFeatureLayer | kFlagGrey | kFlagDecorrelated |
+                                kFlagCompactPairs | kFlagRankedStarts;
 
 // Draco attribute unique ids, in the order the attributes are added.
 constexpr uint32_t kPositionUniqueId = 0;
@@ -117,8 +118,9 @@ StatusOr<Header> ParseHeader(std::span<const uint8_t> payload, const std::string
     return Status(h.major < kVersionMajor ? StatusCode::kCorrupt : StatusCode::kUnsupportedVersion,
                   what + " has version " + std::to_string(h.major) + "." +
                       std::to_string(h.minor) + "; this build reads versions 1.0 and 1.1");
-  if ((h.flags & ~kKnownFlags) || (h.minor == 0 && (h.flags & (kFlagDecorrelated | kFlagCompactPairs))) ||
-      ((h.flags & kFlagCompactPairs) && !(h.flags & kFlagFeatureLayer)))
+  constexpr uint8_t kFlags11 = kFlagDecorrelated | kFlagCompactPairs | kFlagRankedStarts;
+  if ((h.flags & ~kKnownFlags) || (h.minor == 0 && (h.flags & kFlags11)) ||
+      ((h.flags & (kFlagCompactPairs | kFlagRankedStarts)) && !(h.flags & kFlagFeatureLayer)))
     return Status(StatusCode::kCorrupt, what + " (version " + std::to_string(h.major) + "." +
                                             std::to_string(h.minor) + ") has unknown flags " +
                                             std::to_string(h.flags));
@@ -713,7 +715,7 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
   payload[6] = static_cast<uint8_t>((with_ids ? kFlagVertexIds : 0) |
                                     (options.feature_layer ? kFlagFeatureLayer : 0) |
                                     (grey ? kFlagGrey : 0) | (decorrelated ? kFlagDecorrelated : 0) |
-                                    (options.feature_layer ? kFlagCompactPairs : 0));
+                                    (options.feature_layer ? kFlagCompactPairs | kFlagRankedStarts : 0));
   payload[7] = static_cast<uint8_t>(position_bits);
   payload[8] = static_cast<uint8_t>(color_bits);
   payload[9] = static_cast<uint8_t>(options.speed);
@@ -809,7 +811,8 @@ Status DecodeDracoPayload(std::span<const uint8_t> payload, const std::string& s
     SDVI_RETURN_IF_ERROR(codec_internal::DecodeTags(
         payload.subspan(kHeaderSize + h.draco_size, h.tags_size), n,
         codec_internal::CollectMeshEdges(out.triangles), h.crease_edge_count, h.corner_count,
-        (h.flags & kFlagFeatureLayer) != 0, (h.flags & kFlagCompactPairs) != 0, source_name, &tags));
+        (h.flags & kFlagFeatureLayer) != 0, (h.flags & kFlagCompactPairs) != 0,
+        (h.flags & kFlagRankedStarts) != 0, source_name, &tags));
     out.crease_edges = std::move(tags.crease_edges);
     out.corners = std::move(tags.corners);
     out.polylines = std::move(tags.polylines);

@@ -39,7 +39,47 @@ struct FeatureModels {
   // j-th entry of the recent values min(j, 3).
   BitModel pair_first, pair_second;
   std::array<BitModel, 4> sharpness{};
+  // Ranked starts (payload 1.1, flag bit 5): near the previous start, or among the unused.
+  BitModel start_near, start_unused;
 };
+
+// The crease vertices on no polyline coded so far, by rank (ranked starts): a Fenwick tree
+// of 0/1 over the vertex indices.
+class UnusedCreaseVertices {
+ public:
+  UnusedCreaseVertices(const std::vector<std::vector<uint32_t>>& neighbours) : tree_(neighbours.size() + 1, 0) {
+    for (size_t v = 0; v < neighbours.size(); ++v)
+      if (!neighbours[v].empty()) Add(v, 1);
+  }
+  uint32_t size() const { return size_; }
+  bool Contains(uint32_t v) const { return Rank(v + 1) - Rank(v) == 1; }
+  uint32_t Rank(uint32_t v) const {  // members below v
+    uint32_t sum = 0;
+    for (size_t i = v; i > 0; i -= i & (~i + 1)) sum += tree_[i];
+    return sum;
+  }
+  uint32_t Select(uint32_t rank) const {  // the member with `rank` members below it (rank < size())
+    size_t at = 0;
+    for (size_t step = std::bit_floor(tree_.size() - 1); step > 0; step >>= 1)
+      if (at + step < tree_.size() && tree_[at + step] <= rank) {
+        at += step;
+        rank -= tree_[at];
+      }
+    return static_cast<uint32_t>(at);
+  }
+  void Remove(uint32_t v) {
+    if (v < tree_.size() - 1 && Contains(v)) Add(v, -1);
+  }
+
+ private:
+  void Add(size_t v, int delta) {
+    for (size_t i = v + 1; i < tree_.size(); i += i & (~i + 1)) tree_[i] += static_cast<uint32_t>(delta);
+    size_ += static_cast<uint32_t>(delta);
+  }
+  std::vector<uint32_t> tree_;
+  uint32_t size_ = 0;
+};
+constexpr uint32_t kNearStart = 4;  // a start within 4 indices of the previous one is "near"
 
 // The sharpness values of compact pairs seen so far, most recently used first (at most
 // kRecentSharpness): a pair's sharpness is one of them (its position, unary) or new (its 32
@@ -161,14 +201,36 @@ std::vector<uint8_t> EncodeTags(uint32_t vertex_count, const std::vector<MeshEdg
     const auto neighbours = CreaseNeighbours(vertex_count, tags.crease_edges);
     const int vertex_bits = IndexBits(vertex_count);
     EncodeCount(rc, m, static_cast<uint32_t>(tags.polylines.size()));
+    UnusedCreaseVertices unused(neighbours);
+    int64_t previous_start = -1;
     for (const FeaturePolyline& line : tags.polylines) {
       rc.Encode(m.closed, line.closed);
       const auto& vs = line.vertices;
-      if (vs.empty()) {  // an empty polyline: first "vertex" index V marks it
-        rc.EncodeDirect(vertex_count, IndexBits(uint64_t{vertex_count} + 1));
-        continue;
+      // The start: the index V marks an empty polyline.
+      const uint32_t start = vs.empty() ? vertex_count : vs[0];
+      bool coded = false;
+      if (tags.ranked_starts && previous_start >= 0) {
+        const int64_t delta = int64_t{start} - previous_start;
+        const bool near = !vs.empty() && delta != 0 && std::abs(delta) <= kNearStart;
+        rc.Encode(m.start_near, near);
+        if (near) {
+          rc.EncodeDirect(delta < 0 ? 1 : 0, 1);
+          rc.EncodeDirect(static_cast<uint32_t>(std::abs(delta) - 1), 2);
+          coded = true;
+        }
       }
-      rc.EncodeDirect(vs[0], IndexBits(uint64_t{vertex_count} + 1));
+      if (tags.ranked_starts && !coded) {
+        const bool is_unused = !vs.empty() && unused.Contains(start);
+        rc.Encode(m.start_unused, is_unused);
+        if (is_unused) {
+          rc.EncodeDirect(unused.Rank(start), IndexBits(unused.size()));
+          coded = true;
+        }
+      }
+      if (!coded) rc.EncodeDirect(start, IndexBits(uint64_t{vertex_count} + 1));
+      if (vs.empty()) continue;
+      previous_start = start;
+      for (uint32_t v : vs) unused.Remove(v);
       for (size_t i = 0; i < vs.size(); ++i) {
         const uint32_t v = vs[i];
         const bool stop = i + 1 == vs.size();
@@ -216,7 +278,7 @@ std::vector<uint8_t> EncodeTags(uint32_t vertex_count, const std::vector<MeshEdg
 Status DecodeTags(std::span<const uint8_t> bytes, uint32_t vertex_count,
                   const std::vector<MeshEdge>& edges, uint32_t expected_crease_edges,
                   uint32_t expected_corners, bool has_feature_layer, bool compact_pairs,
-                  const std::string& source_name, Tags* tags) {
+                  bool ranked_starts, const std::string& source_name, Tags* tags) {
   const std::string what = source_name + ": Draco payload tag stream";
   RangeDecoder rc(bytes);
   std::array<BitModel, kEdgeContexts> edge_models{};
@@ -265,14 +327,33 @@ Status DecodeTags(std::span<const uint8_t> bytes, uint32_t vertex_count,
                                               " feature polylines, more than the mesh can hold");
     uint64_t total = 0;
     out.polylines.resize(count);
+    UnusedCreaseVertices unused(neighbours);
+    int64_t previous_start = -1;
     for (FeaturePolyline& line : out.polylines) {
       line.closed = rc.Decode(m.closed);
-      const uint32_t first = rc.DecodeDirect(IndexBits(uint64_t{vertex_count} + 1));
-      if (first == vertex_count) continue;  // empty polyline
-      if (first > vertex_count)
-        return Status(StatusCode::kCorrupt, what + ": a feature polyline starts at vertex " +
-                                                std::to_string(first) + " of " + std::to_string(vertex_count));
-      line.vertices.push_back(first);
+      int64_t first = -1;
+      if (ranked_starts && previous_start >= 0 && rc.Decode(m.start_near)) {
+        const bool negative = rc.DecodeDirect(1) != 0;
+        const int64_t magnitude = int64_t{rc.DecodeDirect(2)} + 1;
+        first = previous_start + (negative ? -magnitude : magnitude);
+        if (first < 0 || first >= int64_t{vertex_count})
+          return Status(StatusCode::kCorrupt, what + ": a feature polyline starts at vertex " +
+                                                  std::to_string(first) + " of " + std::to_string(vertex_count));
+      } else if (ranked_starts && rc.Decode(m.start_unused)) {
+        const uint32_t rank = rc.DecodeDirect(IndexBits(unused.size()));
+        if (rank >= unused.size())
+          return Status(StatusCode::kCorrupt, what + ": a feature polyline starts at the unused crease vertex " +
+                                                  std::to_string(rank) + " of " + std::to_string(unused.size()));
+        first = unused.Select(rank);
+      } else {
+        first = rc.DecodeDirect(IndexBits(uint64_t{vertex_count} + 1));
+        if (first == vertex_count) continue;  // empty polyline
+        if (first > vertex_count)
+          return Status(StatusCode::kCorrupt, what + ": a feature polyline starts at vertex " +
+                                                  std::to_string(first) + " of " + std::to_string(vertex_count));
+      }
+      previous_start = first;
+      line.vertices.push_back(static_cast<uint32_t>(first));
       while (true) {
         if (++total > max_polyline_vertices || rc.overrun())
           return Status(StatusCode::kCorrupt, what + ": the feature polylines do not end");
@@ -290,6 +371,7 @@ Status DecodeTags(std::span<const uint8_t> bytes, uint32_t vertex_count,
                                                   std::to_string(next) + " of " + std::to_string(vertex_count));
         line.vertices.push_back(static_cast<uint32_t>(next));
       }
+      for (uint32_t v : line.vertices) unused.Remove(v);
     }
     const uint64_t pair_count = DecodeCount(rc, m);
     if (pair_count > 4 * count + 16 || rc.overrun())

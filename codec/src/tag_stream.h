@@ -9,7 +9,8 @@
 //    a so far, 2) x min(crease degree of b so far, 2): 18 models.
 // 2. Corner bits: vertex 0..V-1, 1 = explicit corner; context min(crease degree, 3).
 // 3. Feature layer (when present): polyline count; per polyline a closed bit, the first
-//    vertex, then per vertex a stop bit and, unless stopping, the next vertex as the
+//    vertex (written out, or in payload 1.1 ranked: within 4 indices of the previous
+//    polyline's first, or its rank among the crease vertices on no polyline yet), then per vertex a stop bit and, unless stopping, the next vertex as the
 //    choice among the current vertex's crease neighbours (ascending, the previous vertex
 //    left out) or an escape with the index written out. Then the pairs: their polyline
 //    indices and sharpness written out (payload 1.0) or, compact (payload 1.1), the first
@@ -46,6 +47,7 @@ struct Tags {
   std::vector<FeaturePolyline> polylines;  // vertex indices < vertex count
   std::vector<FeaturePair> pairs;          // polyline indices < polylines.size()
   bool compact_pairs = true;               // the pairs coded compactly (payload 1.1)
+  bool ranked_starts = true;               // polyline starts coded by rank (payload 1.1)
 };
 
 // Codes tags of a mesh with vertex_count vertices and the given edges.
@@ -58,7 +60,7 @@ std::vector<uint8_t> EncodeTags(uint32_t vertex_count, const std::vector<MeshEdg
 Status DecodeTags(std::span<const uint8_t> bytes, uint32_t vertex_count,
                   const std::vector<MeshEdge>& edges, uint32_t expected_crease_edges,
                   uint32_t expected_corners, bool has_feature_layer, bool compact_pairs,
-                  const std::string& source_name, Tags* tags);
+                  bool ranked_starts, const std::string& source_name, Tags* tags);
 
 // The parts of a Draco payload (PartBytes in sdvi/codec.h; container = its 40-byte header);
 // defined in draco_payload.cpp.

@@ -216,7 +216,7 @@ TEST_CASE("decorrelated payload header rules", "[codec][colors][corrupt]") {
   CHECK(status.code() == StatusCode::kUnsupportedVersion);
   CHECK(status.message().find("1.2") != std::string::npos);
   bad = good;
-  bad[6] |= 32;
+  bad[6] |= 64;
   sdvi::testing::FixPayloadChecksum(&bad);
   CHECK(sdvi::DecodeDracoPayload(bad, "flag.sdvi", &out).code() == StatusCode::kCorrupt);
   bad = good;

@@ -35,7 +35,7 @@ std::vector<sdvi::FeaturePair> RoundTrip(const sdvi::Image& image, const ci::Tag
   ci::Tags out;
   const sdvi::Status status =
       ci::DecodeTags(stream, uint32_t(image.vertices.size()), edges, uint32_t(tags.crease_edges.size()),
-                     uint32_t(tags.corners.size()), true, tags.compact_pairs, "pairs.sdvi", &out);
+                     uint32_t(tags.corners.size()), true, tags.compact_pairs, tags.ranked_starts, "pairs.sdvi", &out);
   INFO(status.ToString());
   REQUIRE(status.ok());
   CHECK(out.polylines == tags.polylines);
@@ -56,8 +56,9 @@ TEST_CASE("compact pairs decode to the pairs written out, in a fraction of the b
   pairs.push_back({0, 5, -0.0f});
   std::mt19937 rng(3);
   for (int k = 0; k < 40; ++k) {
-    const uint32_t first = rng() % 200;
-    pairs.push_back({first, (first + 1 + rng() % 2) % 200, 1.0f - float(k % 12) / 16});
+    const uint32_t first = uint32_t(rng() % 200);
+    const uint32_t second = uint32_t((first + 1 + rng() % 2) % 200);
+    pairs.push_back({first, second, 1.0f - float(k % 12) / 16});
   }
   ci::Tags tags = TagsWithPairs(image, 200, pairs);
   size_t compact_bytes = 0, plain_bytes = 0, no_pairs_bytes = 0;
@@ -89,7 +90,56 @@ TEST_CASE("compact pairs naming a missing polyline are corrupt", "[codec][featur
   ci::Tags out;
   const sdvi::Status status =
       ci::DecodeTags(stream, uint32_t(image.vertices.size()), edges, uint32_t(tags.crease_edges.size()),
-                     uint32_t(tags.corners.size()), true, true, "bad_pair.sdvi", &out);
+                     uint32_t(tags.corners.size()), true, true, true, "bad_pair.sdvi", &out);
   CHECK(status.code() == sdvi::StatusCode::kCorrupt);
   CHECK(status.message().find("bad_pair.sdvi") != std::string::npos);
+}
+
+TEST_CASE("ranked polyline starts decode to the starts written out, in fewer bytes", "[codec][features]") {
+  const sdvi::Image image = sdvi::testing::SyntheticGridImage(300, 300, 24, 24, 8, /*shuffle=*/true);
+  ci::Tags tags = TagsWithPairs(image, 0, {});
+  // Walks of two crease edges from crease vertices on no polyline yet (ranked), starts within
+  // 4 indices of the previous start (near; also one 4 below), a start already used
+  // (written out), a vertex without crease edges (written out), and an empty polyline.
+  std::vector<std::vector<uint32_t>> adjacent(image.vertices.size());
+  for (const auto& e : tags.crease_edges) {
+    adjacent[e.a].push_back(e.b);
+    adjacent[e.b].push_back(e.a);
+  }
+  uint32_t lonely = 0;
+  while (!adjacent[lonely].empty()) ++lonely;
+  std::vector<char> used(image.vertices.size(), 0);
+  for (const auto& e : tags.crease_edges) {
+    if (used[e.a] || used[e.b] || tags.polylines.size() >= 60) continue;
+    tags.polylines.push_back({{e.a, e.b}, false});
+    used[e.a] = used[e.b] = 1;
+  }
+  REQUIRE(tags.polylines.size() >= 20);
+  const uint32_t last = tags.polylines.back().vertices[0];
+  REQUIRE(last >= 1);
+  REQUIRE(last + 3 < image.vertices.size());
+  tags.polylines.push_back({{last + 3}, false});
+  tags.polylines.push_back({{last - 1}, false});
+  tags.polylines.push_back({{last - 1}, true});  // the same start: not near (delta 0)
+  tags.polylines.push_back({{tags.polylines[0].vertices[0], tags.polylines[0].vertices[1]}, false});
+  tags.polylines.push_back({{lonely}, false});
+  tags.polylines.push_back({{}, false});
+  tags.polylines.push_back({{uint32_t(image.vertices.size() - 1)}, false});
+  const auto edges = ci::CollectMeshEdges(image.triangles);
+  auto round_trip = [&](bool ranked, size_t* bytes) {
+    tags.ranked_starts = ranked;
+    const std::vector<uint8_t> stream = ci::EncodeTags(uint32_t(image.vertices.size()), edges, tags);
+    *bytes = stream.size();
+    ci::Tags out;
+    const sdvi::Status status =
+        ci::DecodeTags(stream, uint32_t(image.vertices.size()), edges, uint32_t(tags.crease_edges.size()),
+                       uint32_t(tags.corners.size()), true, true, ranked, "starts.sdvi", &out);
+    INFO(status.ToString());
+    REQUIRE(status.ok());
+    CHECK(out.polylines == tags.polylines);
+  };
+  size_t ranked_bytes = 0, plain_bytes = 0;
+  round_trip(true, &ranked_bytes);
+  round_trip(false, &plain_bytes);
+  CHECK(ranked_bytes < plain_bytes);
 }
