@@ -395,35 +395,3 @@ TEST_CASE("random drawn images always give valid meshes", "[triangulate]") {
     CheckNoCrossings(*mesh);
   }
 }
-
-TEST_CASE("a pair side that would turn back along itself loses the spike, not the mesh", "[triangulate]") {
-  // The end of a glyph's outline from an SVG import (shapes-intro-01-t of the W3C suite with
-  // the system's fonts), shifted by (dx, dy): after a sharp corner, two short steps straight
-  // down. Offset by the pair's half distance, a side of the pair runs back along itself
-  // there, and the triangulation split its overlapping edges ("crease edge ... was split").
-  const double dx = GENERATE(0.0, -380.0), dy = GENERATE(0.0, -100.0);
-  INFO("shift " << dx << ", " << dy);
-  FeatureCurve glyph;
-  glyph.points = {{418.75426136363632 + dx, 132.36363636363635 + dy}, {417.51655148226979 + dx, 134.45494943575963 + dy},
-                  {418.09191882845221 + dx, 136.07756183198865 + dy}, {415.59375 + dx, 136.671875 + dy},
-                  {415.59375 + dx, 136.3671875 + dy},                 {415.59375 + dx, 136.0625 + dy}};
-  glyph.corners = {3};
-  glyph.sharpness = 1;
-  sdvi::ControlMeshOptions options;
-  options.max_edge = 32;
-  auto mesh = sdvi::BuildControlMesh(480, 360, {glyph}, {}, options);
-  INFO((mesh.ok() ? std::string() : mesh.status().ToString()));
-  REQUIRE(mesh.ok());
-  CheckValidMesh(*mesh);
-  // No feature polyline turns back: consecutive segments never run in opposite directions
-  // along one line.
-  for (const auto& polyline : mesh->polylines) {
-    const auto& ids = polyline.vertices;
-    for (size_t i = 1; i + 1 < ids.size(); ++i) {
-      const auto &a = mesh->vertices[ids[i - 1]], &b = mesh->vertices[ids[i]], &c = mesh->vertices[ids[i + 1]];
-      const double dot = double(b.x - a.x) * (c.x - b.x) + double(b.y - a.y) * (c.y - b.y);
-      const double cross = double(b.x - a.x) * (c.y - b.y) - double(b.y - a.y) * (c.x - b.x);
-      CHECK(!(dot < 0 && std::abs(cross) < 1e-3 * std::hypot(b.x - a.x, b.y - a.y)));
-    }
-  }
-}

@@ -93,27 +93,6 @@ class SegmentGrid {
 
 // Removes consecutive (near-)duplicate points, keeping corner tags; splits segments
 // longer than max_len evenly.
-// Removes the tips of spikes: points where the polygon turns back along itself (the next
-// segment runs back over the previous one, within 1e-3 of its length from its line). The
-// two segments would overlap, which no triangulation keeps as two constraints. A pair's
-// side offset from a sharp corner followed by short steps can do this (glyph outlines).
-void DropSpikes(bool closed, std::vector<Point2>* pts, std::vector<bool>* corner) {
-  for (bool dropped = true; dropped && pts->size() > (closed ? 3u : 2u);) {
-    dropped = false;
-    const size_t m = pts->size();
-    for (size_t i = closed ? 0 : 1; i < (closed ? m : m - 1); ++i) {
-      const Point2 a = (*pts)[(i + m - 1) % m], b = (*pts)[i], c = (*pts)[(i + 1) % m];
-      const bool back = (b.x - a.x) * (c.x - b.x) + (b.y - a.y) * (c.y - b.y) < 0;
-      const bool along = std::abs(Cross(a, b, c)) < 1e-3 * std::max(Dist(a, b), Dist(b, c));
-      if (!back || !along) continue;
-      pts->erase(pts->begin() + std::ptrdiff_t(i));
-      corner->erase(corner->begin() + std::ptrdiff_t(i));
-      dropped = true;
-      break;
-    }
-  }
-}
-
 PlacedPolyline Prepare(const FeatureCurve& c, double max_len) {
   PlacedPolyline out;
   out.closed = c.closed;
@@ -930,16 +909,8 @@ StatusOr<PlacedFeatures> PlaceFeatures(int width, int height, const std::vector<
     }
   }
 
-  for (size_t k = 0; k < out.polylines.size(); ++k) {
-    PlacedPolyline& l = out.polylines[k];
-    if (!pending[k].empty()) InsertJunctions(l, std::move(pending[k]));
-    std::vector<bool> corner(l.points.size(), false);
-    for (uint32_t c : l.corners) corner[c] = true;
-    DropSpikes(l.closed, &l.points, &corner);
-    l.corners.clear();
-    for (size_t i = 0; i < corner.size(); ++i)
-      if (corner[i]) l.corners.push_back(uint32_t(i));
-  }
+  for (size_t k = 0; k < out.polylines.size(); ++k)
+    if (!pending[k].empty()) InsertJunctions(out.polylines[k], std::move(pending[k]));
 
   // Interior samples: inside, clear of polylines, at least clearance apart.
   SegmentGrid sample_grid(width, height, std::max(4.0, 4 * clearance));
