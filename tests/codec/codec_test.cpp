@@ -54,14 +54,6 @@ Encoded MustEncode(const Image& image, const CompressOptions& options = {}) {
   return e;
 }
 
-Image MustDecode(const std::vector<uint8_t>& payload) {
-  Image image;
-  const sdvi::Status status = sdvi::DecodeDracoPayload(payload, "test.sdvi", &image);
-  INFO(status.ToString());
-  REQUIRE(status.ok());
-  return image;
-}
-
 }  // namespace
 
 TEST_CASE("default round trip keeps topology and tags exactly, values within the bound",
@@ -69,7 +61,7 @@ TEST_CASE("default round trip keeps topology and tags exactly, values within the
   for (bool shuffle : {false, true}) {
     const Image image = sdvi::testing::SyntheticGridImage(512, 384, 40, 30, 11, shuffle);
     const Encoded e = MustEncode(image);
-    const Image decoded = MustDecode(e.payload);
+    const Image decoded = sdvi::testing::MustDecode(e.payload);
     RequireRoundTrip(image, decoded, e.new_index, sdvi::DefaultPositionBits(image),
                      sdvi::DefaultColorBits(image));
   }
@@ -82,7 +74,7 @@ TEST_CASE("explicit quantization bits bound the error as stated", "[codec]") {
     options.position_bits = bits;
     options.color_bits = bits - 2;
     const Encoded e = MustEncode(image, options);
-    RequireRoundTrip(image, MustDecode(e.payload), e.new_index, bits, bits - 2);
+    RequireRoundTrip(image, sdvi::testing::MustDecode(e.payload), e.new_index, bits, bits - 2);
   }
 }
 
@@ -94,7 +86,7 @@ TEST_CASE("keep_vertex_order decodes vertices in their original order", "[codec]
   std::vector<uint32_t> identity(image.vertices.size());
   std::iota(identity.begin(), identity.end(), 0u);
   CHECK(e.new_index == identity);
-  RequireRoundTrip(image, MustDecode(e.payload), e.new_index, sdvi::DefaultPositionBits(image),
+  RequireRoundTrip(image, sdvi::testing::MustDecode(e.payload), e.new_index, sdvi::DefaultPositionBits(image),
                    sdvi::DefaultColorBits(image));
   // Without ids the payload is smaller (the shuffled numbering is expensive to keep).
   const Encoded plain = MustEncode(image);
@@ -106,7 +98,7 @@ TEST_CASE("the feature layer renumbered by the encoder points at the same vertic
   const Encoded e = MustEncode(image);
   Image moved = image;
   REQUIRE(sdvi::RenumberVertices(e.new_index, &moved).ok());
-  const Image decoded = MustDecode(e.payload);
+  const Image decoded = sdvi::testing::MustDecode(e.payload);
   const auto& before = image.polylines.at(0).vertices;
   const auto& after = moved.polylines.at(0).vertices;
   REQUIRE(before.size() == after.size());
@@ -133,7 +125,7 @@ TEST_CASE("every speed round trips, speed 10 through sequential encoding", "[cod
     CompressOptions options;
     options.speed = speed;
     const Encoded e = MustEncode(image, options);
-    RequireRoundTrip(image, MustDecode(e.payload), e.new_index, sdvi::DefaultPositionBits(image),
+    RequireRoundTrip(image, sdvi::testing::MustDecode(e.payload), e.new_index, sdvi::DefaultPositionBits(image),
                      sdvi::DefaultColorBits(image));
     auto info = sdvi::InspectDracoPayload(e.payload, "x");
     REQUIRE(info.ok());
@@ -156,7 +148,7 @@ TEST_CASE("meshes edgebreaker cannot carry still round trip (isolated vertex); n
   }
   image.vertices.push_back({10.5f, 20.25f, 1, 2, 3});  // isolated
   const Encoded e = MustEncode(image);
-  RequireRoundTrip(image, MustDecode(e.payload), e.new_index, sdvi::DefaultPositionBits(image),
+  RequireRoundTrip(image, sdvi::testing::MustDecode(e.payload), e.new_index, sdvi::DefaultPositionBits(image),
                    sdvi::DefaultColorBits(image));
 }
 
@@ -301,7 +293,7 @@ TEST_CASE("the feature layer travels exactly in the payload", "[codec][features]
   image.polylines.push_back({{}, false});
   image.pairs = {{0, 1, 0.3f}, {2, 4, 1.0f}, {3, 3, 0.0f}};
   const Encoded e = MustEncode(image);
-  const Image decoded = MustDecode(e.payload);
+  const Image decoded = sdvi::testing::MustDecode(e.payload);
   Image expected = image;
   REQUIRE(sdvi::RenumberVertices(e.new_index, &expected).ok());
   CHECK(decoded.polylines == expected.polylines);
@@ -357,7 +349,7 @@ TEST_CASE("grey images code one colour component and decode R = G = B", "[codec]
   auto info = sdvi::InspectDracoPayload(grey.payload, "g");
   REQUIRE(info.ok());
   CHECK(info->grey);
-  const Image decoded = MustDecode(grey.payload);
+  const Image decoded = sdvi::testing::MustDecode(grey.payload);
   for (const auto& v : decoded.vertices) {
     CHECK(v.g == v.r);
     CHECK(v.b == v.r);

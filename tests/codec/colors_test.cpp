@@ -58,14 +58,6 @@ std::vector<uint8_t> MustEncode(const Image& image, const CompressOptions& optio
   return std::move(payload).value();
 }
 
-Image MustDecode(const std::vector<uint8_t>& payload) {
-  Image image;
-  const sdvi::Status status = sdvi::DecodeDracoPayload(payload, "test.sdvi", &image);
-  INFO(status.ToString());
-  REQUIRE(status.ok());
-  return image;
-}
-
 // The forward transform of spec/FORMAT.md 8.2, computed independently (long double).
 std::array<long double, 3> Opponent(long double r, long double g, long double b) {
   return {(r + g + b) / std::sqrt(3.0L), (r - b) / std::sqrt(2.0L), (r - 2 * g + b) / std::sqrt(6.0L)};
@@ -89,7 +81,7 @@ TEST_CASE("decorrelated colours: each of L, C1, C2 within half a step, R, G, B w
     CHECK(info.version_major == 1);
     CHECK(info.version_minor == 1);
     CHECK(info.color_bits == color_bits);
-    const Image decoded = MustDecode(payload);
+    const Image decoded = sdvi::testing::MustDecode(payload);
     Image expected = image;
     REQUIRE(sdvi::RenumberVertices(new_index, &expected).ok());
     sdvi::CanonicalizeTriangles(&expected.triangles);

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "synthetic_mesh.h"
 
+#include <catch2/catch.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -8,6 +10,7 @@
 #include <span>
 
 #include "grid_triangles.h"
+#include "sdvi/codec.h"
 #include "sdvi/format.h"
 
 namespace sdvi::testing {
@@ -79,6 +82,14 @@ void FixPayloadChecksum(std::vector<uint8_t>* payload) {
   const std::span<const uint8_t> bytes(*payload);
   const uint32_t crc = Crc32(bytes.subspan(40), Crc32(bytes.subspan(0, 36)));
   for (int i = 0; i < 4; ++i) (*payload)[36 + i] = static_cast<uint8_t>(crc >> (8 * i));
+}
+
+Image MustDecode(const std::vector<uint8_t>& payload) {
+  Image image;
+  const Status status = DecodeDracoPayload(payload, "test.sdvi", &image);
+  INFO(status.ToString());
+  REQUIRE(status.ok());
+  return image;
 }
 
 }  // namespace sdvi::testing

@@ -22,4 +22,8 @@ Image SyntheticGridImage(uint32_t width, uint32_t height, uint32_t cols, uint32_
 // the Draco decoder and the tag stream (for robustness tests).
 void FixPayloadChecksum(std::vector<uint8_t>* payload);
 
+// The image a Draco payload decodes to; fails the current test (Catch2 REQUIRE, with the
+// decoder's message) when it does not decode.
+Image MustDecode(const std::vector<uint8_t>& payload);
+
 }  // namespace sdvi::testing
