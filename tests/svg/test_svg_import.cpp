@@ -9,16 +9,10 @@
 
 #include "sdvi/bspline.h"
 #include "sdvi/svg.h"
+#include "svg_fixture.h"
 #include "svg_internal.h"
 
 namespace {
-
-sdvi::SvgDocument Doc(const std::string& bytes) {
-  auto document = sdvi::LoadSvg(bytes, "test.svg", {});
-  INFO(document.status().ToString());
-  REQUIRE(document.ok());
-  return *document;
-}
 
 double DistanceToRectangle(sdvi::Point2 p, double x0, double y0, double x1, double y1) {
   // Distance from p to the boundary of the axis-aligned rectangle.
@@ -38,10 +32,9 @@ TEST_CASE("svg geometry: viewBox, transforms and use give device-space outlines"
       "<g transform=\"translate(10,0)\"><use href=\"#r\" x=\"100\"/></g></svg>");
   CHECK(doc.width == 100);
   CHECK(doc.height == 50);
-  auto traced = sdvi::TraceSvgGeometry(doc, 100, 50);
-  REQUIRE(traced.ok());
-  CHECK(traced->incomplete.empty());
-  const auto* shapes = &traced->shapes;
+  const sdvi::SvgGeometry traced = Traced(doc, 100, 50);
+  CHECK(traced.incomplete.empty());
+  const auto* shapes = &traced.shapes;
   REQUIRE(shapes->size() == 1);
   const sdvi::SvgShape& s = (*shapes)[0];
   CHECK(s.paint == sdvi::SvgPaint::kFill);
@@ -65,9 +58,8 @@ TEST_CASE("svg geometry: arcs and circles come out as cubics on the circle", "[s
       "<circle cx=\"32\" cy=\"30\" r=\"20\" fill=\"red\"/>"
       "<path d=\"M 12 60 A 10 10 0 0 1 32 60\" fill=\"none\" stroke=\"blue\" stroke-width=\"4\" "
       "transform=\"scale(1)\"/></svg>");
-  auto traced = sdvi::TraceSvgGeometry(doc, 128, 128);  // rendered at twice the size
-  REQUIRE(traced.ok());
-  const auto* shapes = &traced->shapes;
+  const sdvi::SvgGeometry traced = Traced(doc, 128, 128);  // rendered at twice the size
+  const auto* shapes = &traced.shapes;
   REQUIRE(shapes->size() == 2);
   const sdvi::SvgOutline& circle = (*shapes)[0].outlines.at(0);
   CHECK(circle.closed);
@@ -93,12 +85,11 @@ TEST_CASE("svg geometry: a gradient's matrix does not change the stroke width", 
       "<defs><linearGradient id=\"g\" x1=\"0\" y1=\"0\" x2=\"0.1\" y2=\"0\" gradientUnits=\"userSpaceOnUse\">"
       "<stop offset=\"0\" stop-color=\"red\"/><stop offset=\"1\" stop-color=\"blue\"/></linearGradient></defs>"
       "<path d=\"M 2 2 L 10 10\" stroke=\"url(#g)\" stroke-width=\"1.5\"/></svg>");
-  auto traced = sdvi::TraceSvgGeometry(doc, 48, 48);
-  REQUIRE(traced.ok());
+  const sdvi::SvgGeometry traced = Traced(doc, 48, 48);
   // The line has no area: the traced document does not fill it (spec/SVG.md), the stroke stays.
-  REQUIRE(traced->shapes.size() == 1);
-  CHECK(traced->shapes[0].paint == sdvi::SvgPaint::kStroke);
-  CHECK(traced->shapes[0].stroke_width == Approx(6.0).margin(1e-4));  // 1.5 user units x 4
+  REQUIRE(traced.shapes.size() == 1);
+  CHECK(traced.shapes[0].paint == sdvi::SvgPaint::kStroke);
+  CHECK(traced.shapes[0].stroke_width == Approx(6.0).margin(1e-4));  // 1.5 user units x 4
 }
 
 TEST_CASE("svg geometry: a repeating pattern's tile is not traced where it is not seen", "[svg]") {
@@ -110,12 +101,11 @@ TEST_CASE("svg geometry: a repeating pattern's tile is not traced where it is no
       "<pattern id=\"p\" patternUnits=\"userSpaceOnUse\" width=\"10\" height=\"10\">"
       "<rect width=\"5\" height=\"5\" fill=\"red\"/><rect x=\"5\" y=\"5\" width=\"5\" height=\"5\" "
       "fill=\"blue\"/></pattern></defs><rect x=\"20\" y=\"20\" width=\"20\" height=\"20\" fill=\"url(#p)\"/></svg>");
-  auto traced = sdvi::TraceSvgGeometry(doc, 60, 60);
-  REQUIRE(traced.ok());
-  REQUIRE(traced->shapes.size() == 2);
-  CHECK(traced->shapes[1].outlines[0].points[0].x == Approx(20));
-  CHECK(traced->shapes[1].outlines[0].points[0].y == Approx(20));
-  for (const sdvi::SvgOutline& o : traced->shapes[0].outlines) {
+  const sdvi::SvgGeometry traced = Traced(doc, 60, 60);
+  REQUIRE(traced.shapes.size() == 2);
+  CHECK(traced.shapes[1].outlines[0].points[0].x == Approx(20));
+  CHECK(traced.shapes[1].outlines[0].points[0].y == Approx(20));
+  for (const sdvi::SvgOutline& o : traced.shapes[0].outlines) {
     for (const sdvi::Point2& p : o.points) {
       CHECK(p.x >= 20);
       CHECK(p.y >= 20);
@@ -132,13 +122,12 @@ TEST_CASE("svg geometry: shapes without area do not stop the trace", "[svg]") {
       "<path d=\"M 2 8.5 h 30 h -10 z\" stroke=\"gray\"/><polyline points=\"2,12 20,12 30,12\" stroke=\"gray\"/>"
       "<rect x=\"10\" y=\"20\" width=\"20\" height=\"10\" fill=\"red\"/></svg>");
   CHECK_FALSE(doc.traced.empty());
-  auto traced = sdvi::TraceSvgGeometry(doc, 40, 40);
-  REQUIRE(traced.ok());
-  CHECK(traced->incomplete.empty());
-  REQUIRE(traced->shapes.size() == 4);
-  for (int k = 0; k < 3; ++k) CHECK(traced->shapes[k].paint == sdvi::SvgPaint::kStroke);
-  CHECK(traced->shapes[3].paint == sdvi::SvgPaint::kFill);
-  CHECK(traced->shapes[3].outlines[0].points[0].x == Approx(10));
+  const sdvi::SvgGeometry traced = Traced(doc, 40, 40);
+  CHECK(traced.incomplete.empty());
+  REQUIRE(traced.shapes.size() == 4);
+  for (int k = 0; k < 3; ++k) CHECK(traced.shapes[k].paint == sdvi::SvgPaint::kStroke);
+  CHECK(traced.shapes[3].paint == sdvi::SvgPaint::kFill);
+  CHECK(traced.shapes[3].outlines[0].points[0].x == Approx(10));
   // Shapes with area keep their fill: a curve whose control points leave the line, an arc.
   CHECK(Doc("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"9\" height=\"9\">"
             "<path d=\"M0 0 C 1 1 2 0 3 0\"/><path d=\"M0 0 A 2 2 0 0 1 4 0\"/></svg>").traced.empty());
@@ -167,13 +156,10 @@ TEST_CASE("svg artwork: features follow the visible outline only", "[svg]") {
       "<rect width=\"96\" height=\"96\" fill=\"white\"/>"
       "<rect x=\"16.3\" y=\"20.6\" width=\"40\" height=\"50\" fill=\"#d02020\"/>"
       "<rect x=\"40.2\" y=\"10.4\" width=\"40\" height=\"40\" fill=\"#2040d0\"/></svg>");
-  auto reference = sdvi::RenderSvg(doc, 96, 96);
-  auto traced = sdvi::TraceSvgGeometry(doc, 96, 96);
-  REQUIRE(reference.ok());
-  REQUIRE(traced.ok());
-  const auto* shapes = &traced->shapes;
+  const auto [reference, traced] = RenderAndTrace(doc, 96, 96);
+  const auto* shapes = &traced.shapes;
   sdvi::SvgArtworkOptions options;
-  const std::vector<sdvi::FeatureCurve> curves = sdvi::ArtworkFeatures(*shapes, *reference, options);
+  const std::vector<sdvi::FeatureCurve> curves = sdvi::ArtworkFeatures(*shapes, reference, options);
   REQUIRE(!curves.empty());
   for (const sdvi::FeatureCurve& c : curves) {
     CHECK(c.sharpness == 1.0f);
@@ -289,12 +275,9 @@ TEST_CASE("svg artwork: a 1 px stroke is one thin feature, sharp on both sides",
       "<rect width=\"80\" height=\"64\" fill=\"white\"/>"
       "<path d=\"M 6 20.5 L 74 20.5\" stroke=\"black\" stroke-width=\"1\"/>"
       "<circle cx=\"40\" cy=\"44\" r=\"14\" fill=\"none\" stroke=\"#c00000\" stroke-width=\"1\"/></svg>");
-  auto reference = sdvi::RenderSvg(doc, 80, 64);
-  auto traced = sdvi::TraceSvgGeometry(doc, 80, 64);
-  REQUIRE(reference.ok());
-  REQUIRE(traced.ok());
+  const auto [reference, traced] = RenderAndTrace(doc, 80, 64);
   sdvi::SvgArtworkOptions options;
-  const std::vector<sdvi::FeatureCurve> curves = sdvi::ArtworkFeatures(traced->shapes, *reference, options);
+  const std::vector<sdvi::FeatureCurve> curves = sdvi::ArtworkFeatures(traced.shapes, reference, options);
   REQUIRE(curves.size() == 2);  // the centrelines, not two sides each
   for (const sdvi::FeatureCurve& c : curves) CHECK(c.width == 1.0f);
   options.vectorize.max_triangles = 2000;
@@ -329,12 +312,9 @@ TEST_CASE("svg artwork: a fill thinner than 2 px is one thin feature on its cent
       "<rect width=\"80\" height=\"56\" fill=\"white\"/>"
       "<rect x=\"20\" y=\"8\" width=\"1.5\" height=\"40\" fill=\"black\"/>"
       "<path d=\"M 40 30 H 72 V 31.75 H 40 Z\" fill=\"#606060\"/></svg>");
-  auto reference = sdvi::RenderSvg(doc, 80, 56);
-  auto traced = sdvi::TraceSvgGeometry(doc, 80, 56);
-  REQUIRE(reference.ok());
-  REQUIRE(traced.ok());
+  const auto [reference, traced] = RenderAndTrace(doc, 80, 56);
   sdvi::SvgArtworkOptions options;
-  const std::vector<sdvi::FeatureCurve> curves = sdvi::ArtworkFeatures(traced->shapes, *reference, options);
+  const std::vector<sdvi::FeatureCurve> curves = sdvi::ArtworkFeatures(traced.shapes, reference, options);
   REQUIRE(curves.size() == 2);  // one centreline each, not two sides
   int vertical = 0, horizontal = 0;
   for (const sdvi::FeatureCurve& c : curves) {
@@ -361,7 +341,7 @@ TEST_CASE("svg artwork: a fill thinner than 2 px is one thin feature on its cent
   CHECK(horizontal == 1);
   // The ablation: the fills' outlines only, on which the probes reach across the bar.
   options.thin_fills = false;
-  for (const sdvi::FeatureCurve& c : sdvi::ArtworkFeatures(traced->shapes, *reference, options)) CHECK(c.width == 0);
+  for (const sdvi::FeatureCurve& c : sdvi::ArtworkFeatures(traced.shapes, reference, options)) CHECK(c.width == 0);
 }
 
 TEST_CASE("svg artwork: small text's glyph stems are thin features, sharper than without them", "[svg][thin]") {
@@ -372,18 +352,15 @@ TEST_CASE("svg artwork: small text's glyph stems are thin features, sharper than
       "<text x=\"6\" y=\"24\" font-family=\"DejaVu Sans, sans-serif\" font-size=\"11\" fill=\"black\">"
       "Hill mill lily 1111</text></svg>");
   CHECK(doc.unsupported.empty());
-  auto reference = sdvi::RenderSvg(doc, 160, 40);
-  auto traced = sdvi::TraceSvgGeometry(doc, 160, 40);
-  REQUIRE(reference.ok());
-  REQUIRE(traced.ok());
+  const auto [reference, traced] = RenderAndTrace(doc, 160, 40);
   // The glyphs' outlines, one filled path with a subpath per contour (at least one per
   // letter); the background covers the surface and is painted, not filled.
-  REQUIRE(traced->shapes.size() == 1);
-  CHECK(traced->shapes[0].paint == sdvi::SvgPaint::kFill);
-  CHECK(traced->shapes[0].outlines.size() >= 16);
+  REQUIRE(traced.shapes.size() == 1);
+  CHECK(traced.shapes[0].paint == sdvi::SvgPaint::kFill);
+  CHECK(traced.shapes[0].outlines.size() >= 16);
   sdvi::SvgArtworkOptions options;
   size_t thin = 0;
-  for (const sdvi::FeatureCurve& c : sdvi::ArtworkFeatures(traced->shapes, *reference, options)) {
+  for (const sdvi::FeatureCurve& c : sdvi::ArtworkFeatures(traced.shapes, reference, options)) {
     if (c.width > 0) {
       ++thin;
       CHECK(c.width < 3);
@@ -422,14 +399,11 @@ TEST_CASE("svg artwork: a thin fill drawn over itself thousands of times stays l
   const sdvi::SvgDocument doc = Doc(
       "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"48\" height=\"40\">"
       "<rect width=\"48\" height=\"40\" fill=\"white\"/><path d=\"" + d + "\" fill=\"black\"/></svg>");
-  auto reference = sdvi::RenderSvg(doc, 48, 40);
-  auto traced = sdvi::TraceSvgGeometry(doc, 48, 40);
-  REQUIRE(reference.ok());
-  REQUIRE(traced.ok());
-  REQUIRE(traced->shapes.size() == 1);
-  CHECK(traced->shapes[0].outlines.size() == 4000);
+  const auto [reference, traced] = RenderAndTrace(doc, 48, 40);
+  REQUIRE(traced.shapes.size() == 1);
+  CHECK(traced.shapes[0].outlines.size() == 4000);
   sdvi::SvgArtworkOptions options;
-  for (const sdvi::FeatureCurve& c : sdvi::ArtworkFeatures(traced->shapes, *reference, options)) CHECK(c.width == 0);
+  for (const sdvi::FeatureCurve& c : sdvi::ArtworkFeatures(traced.shapes, reference, options)) CHECK(c.width == 0);
 }
 
 TEST_CASE("svg geometry: text comes as glyph outlines; glyphs drawn from a font are counted", "[svg]") {
@@ -437,13 +411,12 @@ TEST_CASE("svg geometry: text comes as glyph outlines; glyphs drawn from a font 
   const sdvi::SvgDocument doc = Doc(
       "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"64\" height=\"32\">"
       "<text x=\"4\" y=\"24\" font-family=\"DejaVu Sans, sans-serif\" font-size=\"20\">mop</text></svg>");
-  auto traced = sdvi::TraceSvgGeometry(doc, 64, 32);
-  REQUIRE(traced.ok());
-  INFO("incomplete: " << traced->incomplete);
-  CHECK(traced->incomplete.empty());
-  CHECK(traced->glyph_runs == 0);
-  REQUIRE(traced->shapes.size() == 1);
-  CHECK(traced->shapes[0].outlines.size() >= 4);  // m, o and its counter, p and its counter
+  const sdvi::SvgGeometry traced = Traced(doc, 64, 32);
+  INFO("incomplete: " << traced.incomplete);
+  CHECK(traced.incomplete.empty());
+  CHECK(traced.glyph_runs == 0);
+  REQUIRE(traced.shapes.size() == 1);
+  CHECK(traced.shapes[0].outlines.size() >= 4);  // m, o and its counter, p and its counter
   // A script that draws text from a font (as cairo writes it for cairo_show_glyphs).
   size_t runs = 0;
   const std::vector<sdvi::SvgShape> shapes = sdvi::ReadCairoScript(
@@ -464,24 +437,23 @@ TEST_CASE("svg geometry: straight-edged fills that are not boxes do not stop the
       "<path d=\"M 2 2 H 12 V 6 H 8 V 12 H 6 V 6 H 2 Z\" fill=\"#800000\"/>"
       "<text x=\"20\" y=\"30\" font-family=\"DejaVu Sans, sans-serif\" font-size=\"20\">HI TILT</text>"
       "<circle cx=\"140\" cy=\"20\" r=\"10\" fill=\"#008000\"/></svg>");
-  auto traced = sdvi::TraceSvgGeometry(doc, 160, 40);
-  REQUIRE(traced.ok());
-  INFO("incomplete: " << traced->incomplete);
-  CHECK(traced->incomplete.empty());
-  REQUIRE(traced->shapes.size() == 3);
+  const sdvi::SvgGeometry traced = Traced(doc, 160, 40);
+  INFO("incomplete: " << traced.incomplete);
+  CHECK(traced.incomplete.empty());
+  REQUIRE(traced.shapes.size() == 3);
   // The T: its 8 corners within 0.003 px (the trace turned by 0.01 rad and back, on cairo's
   // 1/256 px grid), in order.
   const std::vector<sdvi::Point2> corners = {{2, 2}, {12, 2}, {12, 6}, {8, 6}, {8, 12}, {6, 12}, {6, 6}, {2, 6}};
-  REQUIRE(traced->shapes[0].outlines.size() == 1);
-  const sdvi::SvgOutline& t = traced->shapes[0].outlines[0];
+  REQUIRE(traced.shapes[0].outlines.size() == 1);
+  const sdvi::SvgOutline& t = traced.shapes[0].outlines[0];
   REQUIRE(t.points.size() == 3 * 8 + 1);
   for (size_t k = 0; k < 8; ++k) {
     CHECK(t.points[3 * k].x == Approx(corners[k].x).margin(0.003));
     CHECK(t.points[3 * k].y == Approx(corners[k].y).margin(0.003));
   }
-  CHECK(traced->shapes[1].outlines.size() >= 6);  // H, I, T, I, L, T
-  REQUIRE(traced->shapes[2].outlines.size() == 1);
-  const std::vector<sdvi::Point2>& circle = traced->shapes[2].outlines[0].points;
+  CHECK(traced.shapes[1].outlines.size() >= 6);  // H, I, T, I, L, T
+  REQUIRE(traced.shapes[2].outlines.size() == 1);
+  const std::vector<sdvi::Point2>& circle = traced.shapes[2].outlines[0].points;
   for (size_t k = 0; k < circle.size(); k += 3) {  // the segments' ends lie on the circle
     CHECK(std::hypot(circle[k].x - 140, circle[k].y - 20) == Approx(10).margin(0.01));
   }
@@ -494,13 +466,10 @@ TEST_CASE("svg artwork: crossing hairlines meet at junctions, not cut around the
       "<rect width=\"80\" height=\"64\" fill=\"white\"/>"
       "<path d=\"M 8 32.5 L 72 32.5\" stroke=\"black\" stroke-width=\"1\"/>"
       "<path d=\"M 40.5 6 L 40.5 58\" stroke=\"black\" stroke-width=\"1\"/></svg>");
-  auto reference = sdvi::RenderSvg(doc, 80, 64);
-  auto traced = sdvi::TraceSvgGeometry(doc, 80, 64);
-  REQUIRE(reference.ok());
-  REQUIRE(traced.ok());
+  const auto [reference, traced] = RenderAndTrace(doc, 80, 64);
   sdvi::SvgArtworkOptions options;
   // The lower line crosses the upper one's claim: it stays one feature through the crossing.
-  const std::vector<sdvi::FeatureCurve> curves = sdvi::ArtworkFeatures(traced->shapes, *reference, options);
+  const std::vector<sdvi::FeatureCurve> curves = sdvi::ArtworkFeatures(traced.shapes, reference, options);
   REQUIRE(curves.size() == 2);
   for (const sdvi::FeatureCurve& c : curves) {
     double y0 = 1e9, y1 = -1e9, x0 = 1e9, x1 = -1e9;

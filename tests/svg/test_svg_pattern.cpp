@@ -11,18 +11,8 @@
 
 #include "sdvi/bspline.h"
 #include "sdvi/svg.h"
+#include "svg_fixture.h"
 #include "svg_internal.h"
-
-namespace {
-
-sdvi::SvgDocument Doc(const std::string& bytes) {
-  auto document = sdvi::LoadSvg(bytes, "test.svg", {});
-  INFO(document.status().ToString());
-  REQUIRE(document.ok());
-  return *document;
-}
-
-}  // namespace
 
 TEST_CASE("svg pattern: a pattern fill gives its tiles' edges in device space, chained into lines", "[svg][pattern]") {
   // A 20 x 20 user-unit tile with a 10 x 10 square in one corner and a 10 x 10 square in the
@@ -34,15 +24,14 @@ TEST_CASE("svg pattern: a pattern fill gives its tiles' edges in device space, c
       "<rect width=\"10\" height=\"10\" fill=\"#8030d0\"/>"
       "<rect x=\"10\" y=\"10\" width=\"10\" height=\"10\" fill=\"#d0d020\"/></pattern>"
       "<rect x=\"20\" y=\"20\" width=\"60\" height=\"30\" fill=\"url(#P)\"/></svg>");
-  auto traced = sdvi::TraceSvgGeometry(doc, 200, 120);
-  REQUIRE(traced.ok());
-  CHECK(traced->patterns_not_copied == 0);
+  const sdvi::SvgGeometry traced = Traced(doc, 200, 120);
+  CHECK(traced.patterns_not_copied == 0);
   // The tiles' fills as one shape of lines, then the fill itself.
-  REQUIRE(traced->shapes.size() == 2);
-  const sdvi::SvgShape& lines = traced->shapes[0];
+  REQUIRE(traced.shapes.size() == 2);
+  const sdvi::SvgShape& lines = traced.shapes[0];
   CHECK(lines.tiled);
   CHECK(lines.paint == sdvi::SvgPaint::kFill);
-  CHECK(traced->shapes[1].tiled);  // the fill, where the lines end
+  CHECK(traced.shapes[1].tiled);  // the fill, where the lines end
   // The fill's box 40..160 x 40..100 meets tile columns 1..4 and rows 1..2 (tiles of 40 px
   // from 0): 16 squares of 20 px, whose sides lie on x = 40, 60, ..., 200 and y = 40, 60,
   // ..., 120, each once.
@@ -81,11 +70,10 @@ TEST_CASE("svg pattern: what overflows a tile is clipped away, a lone shape stay
       "<circle cx=\"10\" cy=\"7\" r=\"5\" fill=\"#202080\"/>"
       "<path d=\"M -5 15 L 5 15.5 L 15 16 L 25 16.5 L 25 18 L 15 18 L 5 18 L -5 18 Z\" fill=\"#802020\"/></pattern>"
       "<rect x=\"1\" y=\"1\" width=\"58\" height=\"38\" fill=\"url(#P)\"/></svg>");
-  auto traced = sdvi::TraceSvgGeometry(doc, 60, 40);
-  REQUIRE(traced.ok());
-  INFO(traced->incomplete);
-  REQUIRE(traced->shapes.size() == 2);
-  const sdvi::SvgShape& lines = traced->shapes[0];
+  const sdvi::SvgGeometry traced = Traced(doc, 60, 40);
+  INFO(traced.incomplete);
+  REQUIRE(traced.shapes.size() == 2);
+  const sdvi::SvgShape& lines = traced.shapes[0];
   size_t circles = 0;
   for (const sdvi::SvgOutline& o : lines.outlines) {
     for (const sdvi::Point2& p : o.points) {  // the bar's parts outside a tile are gone
@@ -111,12 +99,9 @@ TEST_CASE("svg pattern: a turned pattern's squares become outline features where
       "<pattern id=\"P\" width=\"20\" height=\"20\" patternUnits=\"userSpaceOnUse\" patternTransform=\"rotate(20)\">"
       "<rect x=\"4\" y=\"4\" width=\"10\" height=\"10\" fill=\"#202080\"/></pattern>"
       "<rect x=\"8\" y=\"8\" width=\"80\" height=\"48\" fill=\"url(#P)\"/></svg>");
-  auto reference = sdvi::RenderSvg(doc, 96, 64);
-  auto traced = sdvi::TraceSvgGeometry(doc, 96, 64);
-  REQUIRE(reference.ok());
-  REQUIRE(traced.ok());
-  CHECK(traced->patterns_not_copied == 0);
-  const std::vector<sdvi::FeatureCurve> curves = sdvi::ArtworkFeatures(traced->shapes, *reference, {});
+  const auto [reference, traced] = RenderAndTrace(doc, 96, 64);
+  CHECK(traced.patterns_not_copied == 0);
+  const std::vector<sdvi::FeatureCurve> curves = sdvi::ArtworkFeatures(traced.shapes, reference, {});
   // The squares in device space: tile (i, j)'s square turned by 20 degrees about the origin.
   const double c = std::cos(20 * M_PI / 180), s = std::sin(20 * M_PI / 180);
   auto distance_to_squares = [&](sdvi::Point2 p) {
@@ -150,10 +135,9 @@ TEST_CASE("svg pattern: a tiny tile is not copied and the result says it is appr
       "<pattern id=\"P\" width=\"1.5\" height=\"1.5\" patternUnits=\"userSpaceOnUse\">"
       "<rect width=\"0.75\" height=\"0.75\" fill=\"black\"/></pattern>"
       "<circle cx=\"20\" cy=\"20\" r=\"15\" fill=\"url(#P)\"/></svg>");
-  auto traced = sdvi::TraceSvgGeometry(doc, 40, 40);
-  REQUIRE(traced.ok());
-  CHECK(traced->patterns_not_copied == 1);
-  for (const sdvi::SvgShape& shape : traced->shapes) CHECK_FALSE(shape.tiled);
+  const sdvi::SvgGeometry traced = Traced(doc, 40, 40);
+  CHECK(traced.patterns_not_copied == 1);
+  for (const sdvi::SvgShape& shape : traced.shapes) CHECK_FALSE(shape.tiled);
   sdvi::SvgArtworkOptions options;
   options.vectorize.max_triangles = 400;
   auto result = sdvi::ImportSvgArtwork(doc, options);
@@ -170,9 +154,8 @@ TEST_CASE("svg pattern: copies are bounded; a small tile over a large fill is le
       "<pattern id=\"P\" width=\"3\" height=\"3\" patternUnits=\"userSpaceOnUse\">"
       "<rect width=\"1.5\" height=\"1.5\" fill=\"black\"/></pattern>"
       "<rect x=\"1\" y=\"1\" width=\"1998\" height=\"1998\" fill=\"url(#P)\"/></svg>");
-  auto traced = sdvi::TraceSvgGeometry(doc, 2000, 2000);
-  REQUIRE(traced.ok());
-  CHECK(traced->patterns_not_copied == 1);
-  REQUIRE(traced->shapes.size() == 1);  // the fill alone
-  CHECK_FALSE(traced->shapes[0].tiled);
+  const sdvi::SvgGeometry traced = Traced(doc, 2000, 2000);
+  CHECK(traced.patterns_not_copied == 1);
+  REQUIRE(traced.shapes.size() == 1);  // the fill alone
+  CHECK_FALSE(traced.shapes[0].tiled);
 }
