@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <map>
+#include <utility>
 #include <vector>
 
 #include "sdvi/features.h"
@@ -41,6 +42,25 @@ double SignedArea(const sdvi::Image& m, const sdvi::Triangle& t) {
   return (double(b.x) - a.x) * (double(c.y) - a.y) - (double(b.y) - a.y) * (double(c.x) - a.x);
 }
 
+// Samples on a staggered grid: rows from `start` every `step` pixels, each row shifted right
+// by y % stagger, every sample at (x + dx, y + dy).
+std::vector<sdvi::Point2> StaggeredSamples(int width, int height, int start, int step, int stagger,
+                                           double dx = 0.5, double dy = 0.5) {
+  std::vector<sdvi::Point2> samples;
+  for (int y = start; y < height; y += step) {
+    for (int x = start + (y % stagger); x < width; x += step) samples.push_back({x + dx, y + dy});
+  }
+  return samples;
+}
+
+// The vectorizer's control mesh over the samples, with no features.
+sdvi::Image ControlMesh(int width, int height, const std::vector<sdvi::Point2>& samples) {
+  auto built = sdvi::BuildControlMesh(width, height, {}, samples, sdvi::ControlMeshOptions());
+  INFO(built.status().ToString());
+  REQUIRE(built.ok());
+  return std::move(*built);
+}
+
 }  // namespace
 
 TEST_CASE("vectorize edge flips align the diagonal with an image valley", "[vectorize][flip]") {
@@ -71,13 +91,9 @@ TEST_CASE("vectorize edge flips keep crease edges and zero passes change nothing
 
 TEST_CASE("vectorize edge flips of a control mesh keep a valid oriented manifold", "[vectorize][flip]") {
   const sdvi::Raster raster = sdvi::MakeSampleImage(128, 96);
-  std::vector<sdvi::Point2> samples;
-  for (int y = 4; y < 96; y += 7) {
-    for (int x = 4 + (y % 2); x < 128; x += 7) samples.push_back({x + 0.5, y + 0.5});
-  }
-  auto built = sdvi::BuildControlMesh(128, 96, {}, samples, sdvi::ControlMeshOptions());
-  REQUIRE(built.ok());
-  sdvi::Image mesh = *built;
+  const std::vector<sdvi::Point2> samples = StaggeredSamples(128, 96, 4, 7, 2);
+  const sdvi::Image built = ControlMesh(128, 96, samples);
+  sdvi::Image mesh = built;
   const size_t triangles = mesh.triangles.size();
   const double sign = SignedArea(mesh, mesh.triangles[0]);
   const int flips = sdvi::FlipEdgesToData(mesh, raster, nullptr, 8, 2.0);
@@ -95,7 +111,7 @@ TEST_CASE("vectorize edge flips of a control mesh keep a valid oriented manifold
   for (const auto& [edge, count] : uses) CHECK(count <= 2);
   for (const sdvi::Edge& e : mesh.crease_edges) CHECK(uses.count(e) == 1);
   // Deterministic.
-  sdvi::Image again = *built;
+  sdvi::Image again = built;
   sdvi::FlipEdgesToData(again, raster, nullptr, 8, 2.0);
   CHECK(again.triangles == mesh.triangles);
 }
@@ -103,18 +119,14 @@ TEST_CASE("vectorize edge flips of a control mesh keep a valid oriented manifold
 TEST_CASE("vectorize edge flips give the same mesh for any thread count", "[vectorize][flip]") {
   // Enough edges for many of the fixed chunks the errors are computed in.
   const sdvi::Raster raster = sdvi::MakeSampleImage(160, 120);
-  std::vector<sdvi::Point2> samples;
-  for (int y = 3; y < 120; y += 4) {
-    for (int x = 3 + (y % 3); x < 160; x += 4) samples.push_back({x + 0.5, y + 0.5});
-  }
-  auto built = sdvi::BuildControlMesh(160, 120, {}, samples, sdvi::ControlMeshOptions());
-  REQUIRE(built.ok());
-  REQUIRE(built->triangles.size() > 2000);
-  sdvi::Image one = *built;
+  const std::vector<sdvi::Point2> samples = StaggeredSamples(160, 120, 3, 4, 3);
+  const sdvi::Image built = ControlMesh(160, 120, samples);
+  REQUIRE(built.triangles.size() > 2000);
+  sdvi::Image one = built;
   const int flips = sdvi::FlipEdgesToData(one, raster, nullptr, 16, 1.0, 1);
   CHECK(flips > 100);
   for (int threads : {2, 3, 8}) {
-    sdvi::Image many = *built;
+    sdvi::Image many = built;
     CHECK(sdvi::FlipEdgesToData(many, raster, nullptr, 16, 1.0, threads) == flips);
     CHECK(many.triangles == one.triangles);
   }
@@ -125,24 +137,18 @@ TEST_CASE("vectorize edge flips give the same meshes with the error cache of ear
   // corner), as the vectorizer's rounds do: flipping both with one cache gives the meshes
   // flipping each without it gives, and the cache holds the last call's errors.
   const sdvi::Raster raster = sdvi::MakeSampleImage(160, 120);
-  std::vector<sdvi::Point2> samples;
-  for (int y = 3; y < 120; y += 5) {
-    for (int x = 3 + (y % 3); x < 160; x += 5) samples.push_back({x + 0.5, y + 0.5});
-  }
+  const std::vector<sdvi::Point2> samples = StaggeredSamples(160, 120, 3, 5, 3);
   std::vector<sdvi::Point2> more = samples;
   for (int y = 5; y < 40; y += 5) {
     for (int x = 5; x < 40; x += 5) more.push_back({x + 0.25, y + 0.75});
   }
-  auto first = sdvi::BuildControlMesh(160, 120, {}, samples, sdvi::ControlMeshOptions());
-  auto second = sdvi::BuildControlMesh(160, 120, {}, more, sdvi::ControlMeshOptions());
-  REQUIRE(first.ok());
-  REQUIRE(second.ok());
-  sdvi::Image a = *first, b = *second;
+  const sdvi::Image first = ControlMesh(160, 120, samples), second = ControlMesh(160, 120, more);
+  sdvi::Image a = first, b = second;
   const int flips_a = sdvi::FlipEdgesToData(a, raster, nullptr, 16, 1.0, 1);
   const int flips_b = sdvi::FlipEdgesToData(b, raster, nullptr, 16, 1.0, 1);
   for (int threads : {1, 3}) {
     sdvi::FlipErrorCache cache;
-    sdvi::Image ca = *first, cb = *second;
+    sdvi::Image ca = first, cb = second;
     CHECK(sdvi::FlipEdgesToData(ca, raster, nullptr, 16, 1.0, threads, &cache) == flips_a);
     CHECK(cache.size() > ca.triangles.size());
     CHECK(sdvi::FlipEdgesToData(cb, raster, nullptr, 16, 1.0, threads, &cache) == flips_b);
@@ -156,13 +162,9 @@ TEST_CASE("vectorize edge flips do not depend on how the mesh lists a triangle",
   // triangle's corners and reversing its orientation gives the same flips, and with the
   // error cache of the first call the second finds every error it needs there.
   const sdvi::Raster raster = sdvi::MakeSampleImage(128, 96);
-  std::vector<sdvi::Point2> samples;
-  for (int y = 4; y < 96; y += 6) {
-    for (int x = 4 + (y % 3); x < 128; x += 6) samples.push_back({x + 0.5, y + 0.25});
-  }
-  auto built = sdvi::BuildControlMesh(128, 96, {}, samples, sdvi::ControlMeshOptions());
-  REQUIRE(built.ok());
-  sdvi::Image listed = *built;
+  const std::vector<sdvi::Point2> samples = StaggeredSamples(128, 96, 4, 6, 3, 0.5, 0.25);
+  const sdvi::Image built = ControlMesh(128, 96, samples);
+  sdvi::Image listed = built;
   for (sdvi::Triangle& t : listed.triangles) t.v = {t.v[2], t.v[1], t.v[0]};
   auto corner_sets = [](const sdvi::Image& m) {
     std::vector<std::array<uint32_t, 3>> sets;
@@ -174,7 +176,7 @@ TEST_CASE("vectorize edge flips do not depend on how the mesh lists a triangle",
     return sets;
   };
   sdvi::FlipErrorCache cache;
-  sdvi::Image mesh = *built;
+  sdvi::Image mesh = built;
   const int flips = sdvi::FlipEdgesToData(mesh, raster, nullptr, 16, 1.0, 1, &cache);
   CHECK(flips > 20);
   const size_t hits_before = cache.hits();
@@ -189,13 +191,9 @@ TEST_CASE("vectorize edge flips leave a flat image's triangulation alone", "[vec
   // diagonal, both errors are 0, and no flip is better than 0.98 x 0.
   sdvi::Raster raster(96, 64, 3);
   for (size_t i = 0; i < raster.data.size(); ++i) raster.data[i] = i % 3 == 0 ? 40.f : i % 3 == 1 ? 170.f : 93.f;
-  std::vector<sdvi::Point2> samples;
-  for (int y = 3; y < 64; y += 5) {
-    for (int x = 3 + (y % 2); x < 96; x += 5) samples.push_back({x + 0.37, y + 0.61});
-  }
-  auto built = sdvi::BuildControlMesh(96, 64, {}, samples, sdvi::ControlMeshOptions());
-  REQUIRE(built.ok());
-  sdvi::Image mesh = *built;
+  const std::vector<sdvi::Point2> samples = StaggeredSamples(96, 64, 3, 5, 2, 0.37, 0.61);
+  const sdvi::Image built = ControlMesh(96, 64, samples);
+  sdvi::Image mesh = built;
   CHECK(sdvi::FlipEdgesToData(mesh, raster, nullptr, 16, 1.0, 2) == 0);
-  CHECK(mesh.triangles == built->triangles);
+  CHECK(mesh.triangles == built.triangles);
 }
