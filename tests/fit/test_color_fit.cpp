@@ -183,6 +183,42 @@ TEST_CASE("colour fit does not depend on the thread count", "[color_fit]") {
   CHECK(one == three);
 }
 
+TEST_CASE("colour fit with buffers from an earlier fit gives the same result", "[color_fit]") {
+  // Buffers that held a different fit's coverage (another mesh, another size of array):
+  // the result must be that of a fit without buffers, field by field.
+  sdvi::Image truth = GridImage(96, 80, 12, /*crease=*/true);
+  PaintPseudoRandom(truth);
+  sdvi::RenderOptions render;
+  render.viewport = sdvi::Viewport::Identity(96, 80);
+  render.levels = 3;
+  auto target = sdvi::Render(truth, render);
+  REQUIRE(target.ok());
+  sdvi::ColorFitOptions options;
+  sdvi::ColorFitBuffers buffers;
+  sdvi::Image coarse = GridImage(96, 80, 3, /*crease=*/false);
+  auto first = sdvi::FitColors(coarse, *target, nullptr, options, &buffers);
+  REQUIRE(first.ok());
+  buffers.coverage = std::move(first->coverage.samples);
+  for (sdvi::PixelSample& s : buffers.coverage) s.w0 = s.w1 = s.w2 = 7.f;  // stale contents
+  sdvi::Image plain = truth, reused = truth;
+  auto a = sdvi::FitColors(plain, *target, nullptr, options);
+  auto b = sdvi::FitColors(reused, *target, nullptr, options, &buffers);
+  REQUIRE(a.ok());
+  REQUIRE(b.ok());
+  CHECK(plain == reused);
+  CHECK(a->sum_squared_error == b->sum_squared_error);
+  CHECK(a->domain_pixels == b->domain_pixels);
+  REQUIRE(a->coverage.samples.size() == b->coverage.samples.size());
+  for (size_t q = 0; q < a->coverage.samples.size(); ++q) {
+    const sdvi::PixelSample &p = a->coverage.samples[q], &r = b->coverage.samples[q];
+    REQUIRE(p.pixel == r.pixel);
+    REQUIRE(p.triangle == r.triangle);
+    REQUIRE(p.w0 == r.w0);
+    REQUIRE(p.w1 == r.w1);
+    REQUIRE(p.w2 == r.w2);
+  }
+}
+
 TEST_CASE("reconstruction draws the fitted colours on covered pixels", "[color_fit]") {
   sdvi::Image image = GridImage(32, 32, 4, /*crease=*/false);
   const sdvi::Raster target = ConstantRaster(32, 32, 10.f, 20.f, 30.f);

@@ -237,4 +237,18 @@ TEST_CASE("Row-band drawing: every pixel is drawn by the lowest-index triangle M
     CHECK(wrong == 0);
   }
   CHECK(m.samples.size() > owner.size() / 2);  // the test covers most of the output
+  // MapPixelsInto on storage holding another map (a larger viewport's, then stale values)
+  // gives the same map.
+  CoverageMap reused = MapPixels(tris, v, Viewport::Identity(900, 1000));
+  for (PixelSample& s : reused.samples) s = PixelSample{1, 2, 3, 4, 5};
+  MapPixelsInto(tris, v, vp, reused);
+  CHECK(reused.width == m.width);
+  CHECK(reused.height == m.height);
+  REQUIRE(reused.samples.size() == m.samples.size());
+  size_t differ = 0;
+  for (size_t q = 0; q < m.samples.size(); ++q) {
+    const PixelSample &a = m.samples[q], &b = reused.samples[q];
+    differ += a.pixel != b.pixel || a.triangle != b.triangle || a.w0 != b.w0 || a.w1 != b.w1 || a.w2 != b.w2;
+  }
+  CHECK(differ == 0);
 }

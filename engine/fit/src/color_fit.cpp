@@ -211,6 +211,11 @@ bool InDomain(const Raster& target, const Raster* mask, int x, int y) {
 
 StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* mask,
                              const ColorFitOptions& options) {
+  return FitColors(image, target, mask, options, nullptr);
+}
+
+StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* mask,
+                             const ColorFitOptions& options, ColorFitBuffers* buffers) {
   const int width = target.width, height = target.height;
   if (target.empty() || target.channels < 1 || target.channels > 4 ||
       target.data.size() != size_t(width) * height * target.channels) {
@@ -248,7 +253,8 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
   fit.seconds_surface = SecondsSince(start);
 
   start = Clock::now();
-  fit.coverage = MapPixels(fit.surface.triangles, fit.fine, Viewport::Identity(width, height));
+  if (buffers != nullptr) fit.coverage.samples = std::move(buffers->coverage);
+  MapPixelsInto(fit.surface.triangles, fit.fine, Viewport::Identity(width, height), fit.coverage);
   fit.seconds_coverage = SecondsSince(start);
 
   start = Clock::now();

@@ -266,7 +266,8 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
   fit_options.warm_start = true;  // SeedColors below: the previous round's colours
   phase("fit");
   SeedColors(mesh, raster, nullptr);
-  SDVI_ASSIGN_OR_RETURN(ColorFit fit, FitColors(mesh, raster, mask, fit_options));
+  ColorFitBuffers fit_buffers;  // storage handed from one round's fit to the next
+  SDVI_ASSIGN_OR_RETURN(ColorFit fit, FitColors(mesh, raster, mask, fit_options, &fit_buffers));
   AddFitTimes(fit, seconds);
   double psnr = PsnrOf(fit.sum_squared_error, fit.domain_pixels);
   report.history.push_back(
@@ -301,7 +302,10 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
     double error_sum = 0;
     for (float e : error) error_sum += std::max(0.f, e);
     spacing.reference_error = error_sum / double(domain_pixels);
-    fit = ColorFit();  // only the error map is needed from here on: release its memory
+    // Only the error map is needed from here on: release the fit's memory but the
+    // coverage's, which the next fit writes into.
+    fit_buffers.coverage = std::move(fit.coverage.samples);
+    fit = ColorFit();
     blocked = BlockedPixels(raster, mask, &mesh, curves, clearance);
     std::vector<Point2> added = SelectRefinementSamples(error, width, height, threshold, spacing,
                                                         mesh.vertices, blocked, want);
@@ -347,7 +351,7 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
 
     phase("fit " + std::to_string(round));
     SeedColors(candidate, raster, &mesh);
-    SDVI_ASSIGN_OR_RETURN(ColorFit refit, FitColors(candidate, raster, mask, fit_options));
+    SDVI_ASSIGN_OR_RETURN(ColorFit refit, FitColors(candidate, raster, mask, fit_options, &fit_buffers));
     AddFitTimes(refit, seconds);
     mesh = std::move(candidate);
     fit = std::move(refit);
@@ -366,6 +370,8 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
   // `sdvi render --levels r` + `sdvi compare` would measure them.
   phase("metrics");
   start = Clock::now();
+  fit = ColorFit();  // the fit's arrays are not needed by the metrics
+  fit_buffers = ColorFitBuffers();
   RenderOptions render_options;
   render_options.viewport = Viewport::Identity(width, height);
   render_options.levels = std::max(2, options.fit.surface.levels);  // the fitted level r

@@ -108,12 +108,20 @@ using namespace render_internal;
 CoverageMap MapPixels(const std::vector<Triangle>& triangles, const std::vector<Vertex>& fine,
                       const Viewport& viewport) {
   CoverageMap map;
-  if (!ValidViewport(viewport)) return map;
+  MapPixelsInto(triangles, fine, viewport, map);
+  return map;
+}
+
+void MapPixelsInto(const std::vector<Triangle>& triangles, const std::vector<Vertex>& fine,
+                   const Viewport& viewport, CoverageMap& map) {
+  std::vector<PixelSample> dense = std::move(map.samples);  // its storage is reused
+  dense.clear();
+  map = CoverageMap();
+  if (!ValidViewport(viewport)) return;
   map.width = viewport.width;
   map.height = viewport.height;
   const size_t npix = size_t(viewport.width) * size_t(viewport.height);
   constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
-  std::vector<PixelSample> dense;
   internal::ReserveLarge(dense, npix);
   dense.assign(npix, PixelSample{0, kNone, 0, 0, 0});
   const std::vector<FixedPoint> pts = ToFixedAll(fine, viewport, 0);
@@ -155,7 +163,6 @@ CoverageMap MapPixels(const std::vector<Triangle>& triangles, const std::vector<
   dense.resize(count);
   if (count < npix / 2) dense.shrink_to_fit();
   map.samples = std::move(dense);
-  return map;
 }
 
 namespace {

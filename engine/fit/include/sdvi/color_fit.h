@@ -74,6 +74,18 @@ struct ColorFit {
 StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* mask,
                              const ColorFitOptions& options);
 
+// Storage that a caller fitting repeatedly (the vectorizer's rounds) hands from one
+// FitColors call to the next: the per-pixel coverage array is written into memory already
+// held instead of fresh pages that the kernel must zero first. Scratch: the contents do not
+// matter, and the result is the same as without it.
+struct ColorFitBuffers {
+  std::vector<PixelSample> coverage;  // taken by the next fit; give back a fit's coverage.samples
+};
+
+// FitColors taking the coverage storage from buffers (when non-null).
+StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* mask,
+                             const ColorFitOptions& options, ColorFitBuffers* buffers);
+
 // The RGBA reconstruction that the fit's surface draws at the identity viewport (alpha 1
 // on covered pixels, 0 elsewhere): what the least squares minimised the error of.
 Raster ReconstructRaster(const ColorFit& fit);

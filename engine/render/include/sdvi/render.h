@@ -44,6 +44,11 @@ struct CoverageMap {
 // Scan-converts fine triangles whose vertex positions are fine[i].x/.y (source pixels).
 CoverageMap MapPixels(const std::vector<Triangle>& triangles, const std::vector<Vertex>& fine,
                       const Viewport& viewport);
+// MapPixels into map, reusing the storage of map.samples (its contents are discarded): a
+// caller that maps repeatedly (the vectorizer's rounds) writes into memory it already holds
+// instead of fresh pages the kernel must zero. The same result as MapPixels.
+void MapPixelsInto(const std::vector<Triangle>& triangles, const std::vector<Vertex>& fine,
+                   const Viewport& viewport, CoverageMap& map);
 
 struct RenderOptions {
   Viewport viewport;   // output size and mapping
