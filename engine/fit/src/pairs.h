@@ -46,6 +46,10 @@ struct PlacedFeatures {
 //    come within min(0.25, 0.4 d) of itself except between segments joined by less than
 //    twice that much polygon (a short segment at a corner); a segment shorter than 0.01 px
 //    is cut out with its neighbours;
+//  - spikes: before each test, a polygon point where one of the feature's offset polylines
+//    turns back along itself (its two segments overlap: a sharp corner followed by steps
+//    shorter than the offset's shift along them) is removed from the polygon, so from
+//    every polyline of the feature: they keep corresponding vertex by vertex;
 //  - a thin structure (FeatureCurve::width w > 0, its curve the centreline): its polylines
 //    at +-(w/2 + d/2) and +-(w/2 - d/2), pairs (0, 1) and (2, 3), when w - d >= min_distance
 //    / 2; else at +-(w/2 + d/2) and 0, pairs (0, 1) and (1, 2) sharing the centre; cut as one
