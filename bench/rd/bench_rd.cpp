@@ -26,12 +26,14 @@
 // start included) on each codec's file at the same PSNR.
 //
 //   bench_rd [--data DIR] [--out DIR] [--only SUBSTRING] [--class photos|graphics] [--budgets 10,25,50,100,200]
-//            [--threads N] [--baseline] [--variants v1,rd,rd0] [--codecs jpeg,webp,avif,jxl] [--no-plots] [--parts]
+//            [--threads N] [--baseline] [--variants v1,rd,rd0,rd11] [--codecs jpeg,webp,avif,jxl] [--no-plots] [--parts]
 //
 // sdvi files per budget (one vectorization): v1 = Draco at the steps v1 `vectorize --compress`
 // used (1% of the fit's MSE; container params recorded, as v1 wrote them), rd = what `vectorize --compress` writes now (CompressForRate,
 // sdvi/rate.h), rd0 = the same RD search without the colour refit (RateOptions::refit_colors
 // false: colours fitted on the float positions, then quantised; the A/B of spec/RATE.md 3).
+// rd11 = rd with payload 1.1's tag stream (crease edges first, RateOptions::features_first
+// false; the A/B of spec/RATE.md 5).
 // --variants picks them (default v1,rd); --baseline = --variants v1 (the BEFORE table). With
 // several variants each is also compared with the first (BD-rate sdvi against sdvi).
 // --codecs limits the codecs searched (the others print '-'; the searches dominate the time).
@@ -385,7 +387,8 @@ sdvi::StatusOr<std::vector<SdviPoint>> RunSdvi(const sdvi::Raster& raster, const
     } else {
       sdvi::RateOptions rate;
       rate.threads = threads;
-      rate.refit_colors = variant == "rd";
+      rate.refit_colors = variant != "rd0";
+      rate.features_first = variant != "rd11";
       SDVI_ASSIGN_OR_RETURN(sdvi::RateResult r, sdvi::CompressForRate(result, raster, nullptr, options.fit, rate));
       p.file = std::move(r.file);
     }
@@ -491,8 +494,8 @@ int main(int argc, char** argv) {
       variants = split(next());
       if (variants.empty() || variants.size() > kMaxVariants) variants = {"?"};
       for (const std::string& v : variants) {
-        if (v != "v1" && v != "rd" && v != "rd0") {
-          std::fprintf(stderr, "bench_rd: --variants takes 1-%zu of v1, rd, rd0\n", kMaxVariants);
+        if (v != "v1" && v != "rd" && v != "rd0" && v != "rd11") {
+          std::fprintf(stderr, "bench_rd: --variants takes 1-%zu of v1, rd, rd0, rd11\n", kMaxVariants);
           return 1;
         }
       }
@@ -515,7 +518,7 @@ int main(int argc, char** argv) {
     } else {
       std::fprintf(stderr,
                    "usage: bench_rd [--data DIR] [--out DIR] [--only SUBSTRING] [--class photos|graphics] [--budgets 10,25,50,100,200] "
-                   "[--threads N] [--baseline] [--variants v1,rd,rd0] [--codecs jpeg,webp,avif,jxl] [--no-plots] [--parts]\n");
+                   "[--threads N] [--baseline] [--variants v1,rd,rd0,rd11] [--codecs jpeg,webp,avif,jxl] [--no-plots] [--parts]\n");
       return 1;
     }
   }
@@ -532,7 +535,7 @@ int main(int argc, char** argv) {
   const size_t nv = variants.size();
   std::printf("sdvi files: v1 = Draco at the v1 `vectorize --compress` steps (1%% of the fit's MSE); rd = "
               "`vectorize --compress` now (CompressForRate: RD-chosen steps, colours refitted); rd0 = rd without "
-              "the refit. Here: %s.\n", [&] {
+              "the refit; rd11 = rd in payload 1.1 (crease edges before the feature layer). Here: %s.\n", [&] {
                 std::string list;
                 for (const std::string& v : variants) list += (list.empty() ? "" : ", ") + v;
                 return list;

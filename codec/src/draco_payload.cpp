@@ -36,8 +36,9 @@ constexpr bool kRejectBadChecksum = true;
 // Header layout (little-endian), 40 bytes.
 constexpr char kMagic[4] = {'S', 'D', 'R', 'C'};
 constexpr uint8_t kVersionMajor = 1;
-// Written: 1.1 (flag bits 3, 4 and 5 allowed); read: 1.0 and 1.1 (spec/FORMAT.md 8.1).
-constexpr uint8_t kVersionMinor = 1;
+// Written: the lowest of 1.1 and 1.2 that allows the flags used (1.1: flag bits 3, 4 and 5
+// allowed; 1.2: bit 6 too); read: 1.0, 1.1 and 1.2 (spec/FORMAT.md 8.1).
+constexpr uint8_t kVersionMinor = 2;
 constexpr size_t kHeaderSize = 40;
 constexpr size_t kCrcOffset = 36;
 constexpr uint8_t kFlagVertexIds = 1;     // the Draco mesh has the vertex id attribute
@@ -46,8 +47,9 @@ constexpr uint8_t kFlagGrey = 4;          // R = G = B everywhere: COLOR has 1 c
 constexpr uint8_t kFlagDecorrelated = 8;  // colours as L (COLOR), C1, C2 (GENERIC ids 3, 4)
 constexpr uint8_t kFlagCompactPairs = 16;  // the feature layer's pairs coded compactly
 constexpr uint8_t kFlagRankedStarts = 32;  // the feature layer's polyline starts ranked
+constexpr uint8_t kFlagFeaturesFirst = 64;  // the feature layer first, polylines along mesh edges
 constexpr uint8_t kKnownFlags = kFlagVertexIds | kFlagFeatureLayer | kFlagGrey | kFlagDecorrelated |
-                                kFlagCompactPairs | kFlagRankedStarts;
+                                kFlagCompactPairs | kFlagRankedStarts | kFlagFeaturesFirst;
 
 // Draco attribute unique ids, in the order the attributes are added.
 constexpr uint32_t kPositionUniqueId = 0;
@@ -117,10 +119,13 @@ StatusOr<Header> ParseHeader(std::span<const uint8_t> payload, const std::string
   if (h.major != kVersionMajor || h.minor > kVersionMinor)
     return Status(h.major < kVersionMajor ? StatusCode::kCorrupt : StatusCode::kUnsupportedVersion,
                   what + " has version " + std::to_string(h.major) + "." +
-                      std::to_string(h.minor) + "; this build reads versions 1.0 and 1.1");
+                      std::to_string(h.minor) + "; this build reads versions 1.0, 1.1 and 1.2");
   constexpr uint8_t kFlags11 = kFlagDecorrelated | kFlagCompactPairs | kFlagRankedStarts;
+  constexpr uint8_t kFlagsUnderFirst = kFlagFeatureLayer | kFlagCompactPairs | kFlagRankedStarts;
   if ((h.flags & ~kKnownFlags) || (h.minor == 0 && (h.flags & kFlags11)) ||
-      ((h.flags & (kFlagCompactPairs | kFlagRankedStarts)) && !(h.flags & kFlagFeatureLayer)))
+      (h.minor < 2 && (h.flags & kFlagFeaturesFirst)) ||
+      ((h.flags & (kFlagCompactPairs | kFlagRankedStarts)) && !(h.flags & kFlagFeatureLayer)) ||
+      ((h.flags & kFlagFeaturesFirst) && (h.flags & kFlagsUnderFirst) != kFlagsUnderFirst))
     return Status(StatusCode::kCorrupt, what + " (version " + std::to_string(h.major) + "." +
                                             std::to_string(h.minor) + ") has unknown flags " +
                                             std::to_string(h.flags));
@@ -616,6 +621,13 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
     std::vector<uint8_t> bytes;
     std::vector<uint32_t> renumbering;  // empty: the identity
     bool with_ids = true;
+    std::vector<Vertex> decoded;  // what the reader gets, in the decoded vertex numbering
+  };
+  // The decoded mesh's vertices as the reader numbers them (DecodeDracoPayload).
+  auto decoded_vertices = [n](const DecodedMesh& mesh) {
+    std::vector<Vertex> out(n);
+    for (size_t p = 0; p < mesh.points.size(); ++p) out[mesh.ids.empty() ? p : mesh.ids[p]] = mesh.points[p];
+    return out;
   };
   auto encode_layout = [&](ColorLayout layout) -> StatusOr<DracoMesh> {
     const bool decorrelated = layout == ColorLayout::kDecorrelated;
@@ -638,13 +650,17 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
             StatusOr<DecodedMesh> decoded_plain = DecodeDracoMesh(*bytes_plain, self, decorrelated);
             if (decoded_plain.ok() && SameMesh(*decoded_plain, *decoded_ids)) {
               out.bytes = std::move(bytes_plain).value();
+              out.decoded = decoded_vertices(*decoded_plain);
               out.renumbering.assign(n, 0);
               for (uint32_t p = 0; p < n; ++p) out.renumbering[decoded_ids->ids[p]] = p;
               out.with_ids = false;
             }
           }
         }
-        if (out.with_ids) out.bytes = std::move(bytes_ids);
+        if (out.with_ids) {
+          out.bytes = std::move(bytes_ids);
+          out.decoded = decoded_vertices(*decoded_ids);
+        }
       }
     }
     if (out.bytes.empty()) {
@@ -659,6 +675,7 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
         return Status(StatusCode::kEncodeFailed,
                       "Draco does not reproduce the control mesh of the image to compress");
       out.bytes = std::move(bytes);
+      out.decoded = decoded_vertices(*decoded);
     }
     return out;
   };
@@ -705,17 +722,20 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
   tag_set.has_feature_layer = options.feature_layer;
   tag_set.polylines = std::move(renumbered.polylines);
   tag_set.pairs = std::move(renumbered.pairs);
+  const bool features_first = options.feature_layer && options.features_first;
+  tag_set.features_first = features_first;
   const std::vector<uint8_t> tags = codec_internal::EncodeTags(
-      n, codec_internal::CollectMeshEdges(renumbered.triangles), tag_set);
+      n, codec_internal::CollectMeshEdges(renumbered.triangles), tag_set, chosen.decoded);
 
   std::vector<uint8_t> payload(kHeaderSize + draco_bytes.size() + tags.size(), 0);
   std::memcpy(payload.data(), kMagic, 4);
   payload[4] = kVersionMajor;
-  payload[5] = kVersionMinor;
+  payload[5] = features_first ? kVersionMinor : 1;
   payload[6] = static_cast<uint8_t>((with_ids ? kFlagVertexIds : 0) |
                                     (options.feature_layer ? kFlagFeatureLayer : 0) |
                                     (grey ? kFlagGrey : 0) | (decorrelated ? kFlagDecorrelated : 0) |
-                                    (options.feature_layer ? kFlagCompactPairs | kFlagRankedStarts : 0));
+                                    (options.feature_layer ? kFlagCompactPairs | kFlagRankedStarts : 0) |
+                                    (features_first ? kFlagFeaturesFirst : 0));
   payload[7] = static_cast<uint8_t>(position_bits);
   payload[8] = static_cast<uint8_t>(color_bits);
   payload[9] = static_cast<uint8_t>(options.speed);
@@ -812,7 +832,8 @@ Status DecodeDracoPayload(std::span<const uint8_t> payload, const std::string& s
         payload.subspan(kHeaderSize + h.draco_size, h.tags_size), n,
         codec_internal::CollectMeshEdges(out.triangles), h.crease_edge_count, h.corner_count,
         (h.flags & kFlagFeatureLayer) != 0, (h.flags & kFlagCompactPairs) != 0,
-        (h.flags & kFlagRankedStarts) != 0, source_name, &tags));
+        (h.flags & kFlagRankedStarts) != 0, source_name, &tags, (h.flags & kFlagFeaturesFirst) != 0,
+        out.vertices));
     out.crease_edges = std::move(tags.crease_edges);
     out.corners = std::move(tags.corners);
     out.polylines = std::move(tags.polylines);
@@ -876,10 +897,21 @@ StatusOr<PartBytes> codec_internal::MeasureDracoParts(std::span<const uint8_t> p
   codec_internal::Tags tags;
   tags.crease_edges = image.crease_edges;
   tags.corners = image.corners;
-  const std::vector<uint8_t> without_features =
-      codec_internal::EncodeTags(h.vertex_count, codec_internal::CollectMeshEdges(image.triangles), tags);
-  parts.tags = std::min<uint64_t>(without_features.size(), h.tags_size);
-  parts.feature_layer = h.tags_size - parts.tags;
+  const auto edges = codec_internal::CollectMeshEdges(image.triangles);
+  if (h.flags & kFlagFeaturesFirst) {
+    // The feature layer is the stream's first part: its bytes where it ends.
+    tags.has_feature_layer = tags.features_first = true;
+    tags.polylines = image.polylines;
+    tags.pairs = image.pairs;
+    size_t feature_bytes = 0;
+    codec_internal::EncodeTags(h.vertex_count, edges, tags, image.vertices, &feature_bytes);
+    parts.feature_layer = std::min<uint64_t>(feature_bytes, h.tags_size);
+    parts.tags = h.tags_size - parts.feature_layer;
+  } else {
+    const std::vector<uint8_t> without_features = codec_internal::EncodeTags(h.vertex_count, edges, tags);
+    parts.tags = std::min<uint64_t>(without_features.size(), h.tags_size);
+    parts.feature_layer = h.tags_size - parts.tags;
+  }
   parts.container = kHeaderSize;
   return parts;
 }

@@ -24,6 +24,9 @@ class RangeEncoder {
   void EncodeDirect(uint32_t value, int bits);
   // Flushes the coder and returns the bytes; the encoder is spent afterwards.
   std::vector<uint8_t> Finish();
+  // Bytes the bits coded so far take: those written plus those held back (within a byte or
+  // two of where a stream ending here would end; for measuring parts of a stream).
+  uint64_t bytes_so_far() const { return out_.size() + cache_size_; }
 
  private:
   void ShiftLow();

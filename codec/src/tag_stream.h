@@ -17,6 +17,13 @@
 //    polyline as expected (the previous pair's second + 1) or written out, the second as
 //    first + 1 or written out, the sharpness as one of the 8 most recently used values or
 //    written out.
+//    Features first (payload 1.2): the feature layer comes before the edge bits; the pairs
+//    before the polylines, and each polyline's next vertex is a choice among the current
+//    vertex's mesh neighbours, ordered by how well they continue the polyline (off earlier
+//    polylines, beside the paired polyline's next vertex, nearest to the straight
+//    continuation of the last step in the decoded positions). The edge bits then take
+//    polyline segments from two models of their own, so crease edges along polylines cost
+//    almost nothing.
 #pragma once
 
 #include <cstdint>
@@ -48,11 +55,19 @@ struct Tags {
   std::vector<FeaturePair> pairs;          // polyline indices < polylines.size()
   bool compact_pairs = true;               // the pairs coded compactly (payload 1.1)
   bool ranked_starts = true;               // polyline starts coded by rank (payload 1.1)
+  bool features_first = false;             // the feature layer before the edge bits (payload 1.2)
 };
 
-// Codes tags of a mesh with vertex_count vertices and the given edges.
+// The decoded positions of the vertices (their x, y; features_first orders a polyline's
+// next vertex by them), in the tag stream's vertex numbering.
+using Positions = std::span<const Vertex>;
+
+// Codes tags of a mesh with vertex_count vertices and the given edges. With
+// tags.features_first and a feature layer, positions must hold vertex_count vertices as the
+// reader decodes them; *feature_bytes (when given) receives the bytes of the stream up to the end of its feature layer
+// (features first only; else 0).
 std::vector<uint8_t> EncodeTags(uint32_t vertex_count, const std::vector<MeshEdge>& edges,
-                                const Tags& tags);
+                                const Tags& tags, Positions positions = {}, size_t* feature_bytes = nullptr);
 
 // Decodes tags (the feature layer when has_feature_layer); kCorrupt (naming source_name)
 // when the stream overruns, names a vertex or polyline that does not exist, or its counts
@@ -60,7 +75,8 @@ std::vector<uint8_t> EncodeTags(uint32_t vertex_count, const std::vector<MeshEdg
 Status DecodeTags(std::span<const uint8_t> bytes, uint32_t vertex_count,
                   const std::vector<MeshEdge>& edges, uint32_t expected_crease_edges,
                   uint32_t expected_corners, bool has_feature_layer, bool compact_pairs,
-                  bool ranked_starts, const std::string& source_name, Tags* tags);
+                  bool ranked_starts, const std::string& source_name, Tags* tags,
+                  bool features_first = false, Positions positions = {});
 
 // The parts of a Draco payload (PartBytes in sdvi/codec.h; container = its 40-byte header);
 // defined in draco_payload.cpp.

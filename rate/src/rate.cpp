@@ -107,6 +107,7 @@ StatusOr<RateResult> CompressForRate(const VectorizeResult& vectorized, const Ra
     compress.position_bits = position_bits;
     compress.color_bits = color_bits;
     compress.color_coding = options.color_coding;
+    compress.features_first = options.features_first;
     // Positions that fold a triangle at these bits: the few vertices of the folds move to
     // nearby grid points (spec/RATE.md 3) instead of every vertex getting a finer step.
     const Image* positions = &image;

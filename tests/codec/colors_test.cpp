@@ -79,7 +79,7 @@ TEST_CASE("decorrelated colours: each of L, C1, C2 within half a step, R, G, B w
     CHECK(info.decorrelated);
     CHECK_FALSE(info.grey);
     CHECK(info.version_major == 1);
-    CHECK(info.version_minor == 1);
+    CHECK(info.version_minor == 2);  // features first (payload 1.2)
     CHECK(info.color_bits == color_bits);
     const Image decoded = sdvi::testing::MustDecode(payload);
     Image expected = image;
@@ -140,7 +140,7 @@ TEST_CASE("decorrelated colours code correlated colours in fewer bytes; smallest
   CHECK(decorrelated.size() < 0.95 * rgb.size());
   CHECK(smallest == decorrelated);
   CHECK_FALSE(MustInspect(rgb).decorrelated);
-  CHECK(MustInspect(rgb).version_minor == 1);
+  CHECK(MustInspect(rgb).version_minor == 2);
 
   // A linear colour gradient: RGB's parallelogram prediction is exact, so RGB is smaller and
   // smallest keeps it (byte-identical to the RGB file).
@@ -202,30 +202,34 @@ TEST_CASE("decorrelated payload header rules", "[codec][colors][corrupt]") {
   // A later minor version: unsupported (its stream may mean something else); an unknown
   // flag, or the decorrelated flag in a 1.0 payload: corrupt.
   bad = good;
-  bad[5] = 2;
+  bad[5] = 3;
   sdvi::testing::FixPayloadChecksum(&bad);
   status = sdvi::DecodeDracoPayload(bad, "later.sdvi", &out);
   CHECK(status.code() == StatusCode::kUnsupportedVersion);
-  CHECK(status.message().find("1.2") != std::string::npos);
+  CHECK(status.message().find("1.3") != std::string::npos);
   bad = good;
-  bad[6] |= 64;
+  bad[6] |= 128;
   sdvi::testing::FixPayloadChecksum(&bad);
   CHECK(sdvi::DecodeDracoPayload(bad, "flag.sdvi", &out).code() == StatusCode::kCorrupt);
-  bad = good;
+  options.color_coding = ColorCoding::kDecorrelated;
+  options.features_first = false;
+  bad = MustEncode(image, options);  // payload 1.1
+  REQUIRE(bad[5] == 1);
   bad[5] = 0;
   sdvi::testing::FixPayloadChecksum(&bad);
   CHECK(sdvi::DecodeDracoPayload(bad, "old.sdvi", &out).code() == StatusCode::kCorrupt);
   CHECK(out.vertices.empty());
 }
 
-TEST_CASE("golden compressed files of payload 1.0 (RGB) and 1.1 (decorrelated) read (kept forever)",
+TEST_CASE("golden compressed files of payload 1.0 (RGB), 1.1 (decorrelated) and 1.2 (features first) read "
+          "(kept forever)",
           "[codec][colors]") {
   const Image source = [] {
     auto image = sdvi::DecodeImage(ReadData("golden_v1_0.sdvi"), "golden_v1_0.sdvi");
     REQUIRE(image.ok());
     return std::move(image).value();
   }();
-  for (const char* version : {"1_0", "1_1"}) {
+  for (const char* version : {"1_0", "1_1", "1_2"}) {
     const std::string name = std::string("golden_draco_v") + version;
     INFO(name);
     const std::vector<uint8_t> bytes = ReadData(name + ".sdvi");
@@ -241,11 +245,14 @@ TEST_CASE("golden compressed files of payload 1.0 (RGB) and 1.1 (decorrelated) r
     CHECK(expected->triangles == decoded->triangles);
     CHECK(expected->crease_edges == decoded->crease_edges);
     CHECK(expected->polylines == decoded->polylines);
-    // The 1.1 file is what this writer makes of the raw golden file (`sdvi compress
-    // --colors decorrelated`); the 1.0 file was made by the 1.0 writer (`sdvi compress`, RGB).
-    if (version == std::string("1_1")) {
+    CHECK(expected->pairs == decoded->pairs);
+    // The 1.2 file is what this writer makes of the raw golden file (`sdvi compress
+    // --colors decorrelated`), the 1.1 file the same without features first; the 1.0 file was
+    // made by the 1.0 writer (`sdvi compress`, RGB).
+    if (version != std::string("1_0")) {
       CompressOptions options;
       options.color_coding = ColorCoding::kDecorrelated;
+      options.features_first = version == std::string("1_2");
       auto again = sdvi::EncodeImage(source, &options);
       REQUIRE(again.ok());
       CHECK(*again == bytes);

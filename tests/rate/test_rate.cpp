@@ -208,7 +208,18 @@ TEST_CASE("MeasureParts: raw parts are exact and both payloads sum to the file",
   CHECK(sum(*b) == draco_bare->size());
   CHECK(a->feature_layer > 0);
   CHECK(b->feature_layer == 0);
-  CHECK(a->tags == b->tags);
+  // The feature layer first (payload 1.2): crease edges along its polylines cost less than
+  // alone; crease edges first (payload 1.1): the same tag bytes as without the layer.
+  CHECK(a->tags < b->tags);
+  sdvi::CompressOptions crease_first;
+  crease_first.features_first = false;
+  auto draco_11 = sdvi::EncodeImage(image, &crease_first);
+  REQUIRE(draco_11.ok());
+  auto c = sdvi::MeasureParts(*draco_11, "draco 1.1");
+  REQUIRE(c.ok());
+  CHECK(sum(*c) == draco_11->size());
+  CHECK(c->tags == b->tags);
+  CHECK(c->feature_layer > 0);
   CHECK(a->connectivity > 0);
   CHECK(a->positions > 0);
   CHECK(a->colors > 0);

@@ -60,6 +60,9 @@ struct CompressOptions {
   ColorCoding color_coding = ColorCoding::kRgb;
   bool keep_vertex_order = false;  // store original vertex ids (costs bytes)
   bool feature_layer = true;       // carry polylines and pairs in the payload (compactly)
+  // With the feature layer: code it before the crease edges, its polylines along mesh edges
+  // (payload 1.2, spec/FORMAT.md 8.5); false writes payload 1.1.
+  bool features_first = true;
   // Repeat the payload header's settings as container params (spec/FORMAT.md 8): what v1.0
   // writers did; redundant with the header and ~220 bytes a file, so off by default.
   bool container_params = false;

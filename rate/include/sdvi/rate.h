@@ -48,6 +48,7 @@ struct RateOptions {
   // How each candidate codes its colours (sdvi/codec.h): by default RGB or decorrelated,
   // whichever file is smaller (spec/RATE.md 5).
   ColorCoding color_coding = ColorCoding::kSmallest;
+  bool features_first = true;  // the feature layer first (payload 1.2; false: 1.1), sdvi/codec.h
   int threads = 1;
 };
 
