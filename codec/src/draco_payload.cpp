@@ -25,14 +25,6 @@ namespace {
 
 using codec_internal::MeshEdge;
 
-// Fuzzing builds accept a wrong checksum so that mutated inputs reach the checks behind
-// it (the libFuzzer convention; the container does the same).
-#ifdef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
-constexpr bool kRejectBadChecksum = false;
-#else
-constexpr bool kRejectBadChecksum = true;
-#endif
-
 // Header layout (little-endian), 40 bytes.
 constexpr char kMagic[4] = {'S', 'D', 'R', 'C'};
 constexpr uint8_t kVersionMajor = 1;
@@ -753,10 +745,10 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
 }
 
 Status DecodeDracoPayload(std::span<const uint8_t> payload, const std::string& source_name,
-                          Image* image, uint64_t max_vertices) {
+                          Image* image, uint64_t max_vertices, bool verify_checksum) {
   SDVI_ASSIGN_OR_RETURN(Header h, ParseHeader(payload, source_name));
   const std::string what = source_name + ": Draco payload";
-  if (PayloadCrc(payload) != h.crc && kRejectBadChecksum)
+  if (verify_checksum && PayloadCrc(payload) != h.crc)
     return Status(StatusCode::kCorrupt, what + " fails its CRC-32 check (damaged bytes)");
   if (h.position_bits > kMaxQuantizationBits || h.color_bits > kMaxQuantizationBits)
     return Status(StatusCode::kLimitExceeded,

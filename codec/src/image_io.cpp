@@ -40,7 +40,8 @@ StatusOr<Image> DecodeImage(std::span<const uint8_t> bytes, const std::string& s
                                                       "and in the compressed payload");
   SDVI_RETURN_IF_ERROR(DecodeDracoPayload(file.compressed_payload, source_name, &image,
                                           std::min<uint64_t>(options.max_vertices,
-                                                             options.max_triangles)));
+                                                             options.max_triangles),
+                                          options.verify_checksums));
   const PayloadSummary& summary = file.payload_summary;
   if (summary.vertex_count != image.vertices.size() ||
       summary.triangle_count != image.triangles.size())

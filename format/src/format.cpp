@@ -25,13 +25,6 @@ constexpr size_t kCrcOffsetInHeader = 24;
 // The smallest buffer the schema allows: root offset, identifier, a one-field vtable
 // (6 bytes + 2 padding), the root table (4-byte vtable offset + 28-byte header).
 constexpr size_t kSmallestFileBytes = 48;
-// Fuzzing builds accept a wrong checksum so that mutated inputs reach the structural and
-// semantic checks behind it (the usual libFuzzer convention).
-#ifdef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
-constexpr bool kRejectBadChecksum = false;
-#else
-constexpr bool kRejectBadChecksum = true;
-#endif
 // FlatBuffers addresses at most 2^31 - 1 bytes.
 constexpr uint64_t kMaxBufferBytes = (uint64_t{1} << 31) - 1;
 
@@ -377,7 +370,7 @@ StatusOr<SdviFile> DecodeSdvi(std::span<const uint8_t> input, const std::string&
     // A file cut short fails the checksum too: say which it is.
     SDVI_RETURN_IF_ERROR(CheckExtent(raw, root, source));
   }
-  if (crc != stored_crc && kRejectBadChecksum)
+  if (crc != stored_crc && options.verify_checksums)
     return Status(StatusCode::kCorrupt, source + ": checksum mismatch: the header says " +
                                             Hex32(stored_crc) + ", the content gives " +
                                             Hex32(crc) + " (bytes were changed or damaged)");

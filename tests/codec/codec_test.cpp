@@ -241,6 +241,12 @@ TEST_CASE("header problems have specific codes", "[codec][corrupt]") {
   bad.push_back(0);
   CHECK(sdvi::DecodeDracoPayload(bad, "long", &out).code() == StatusCode::kCorrupt);
   CHECK(sdvi::DecodeDracoPayload(e.payload, "limit", &out, 10).code() == StatusCode::kLimitExceeded);
+  // A wrong checksum: kCorrupt, unless the caller asks not to verify it (the fuzz targets).
+  bad = e.payload;
+  bad[36] ^= 0x01;  // the CRC-32 field
+  CHECK(sdvi::DecodeDracoPayload(bad, "crc", &out).code() == StatusCode::kCorrupt);
+  CHECK(sdvi::DecodeDracoPayload(bad, "crc", &out, uint64_t{1} << 26, /*verify_checksum=*/false).ok());
+  CHECK(out.vertices.size() == image.vertices.size());
 }
 
 TEST_CASE("images that cannot be encoded and bad options are rejected", "[codec]") {

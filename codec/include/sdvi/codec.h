@@ -137,8 +137,10 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image,
 // kTruncated (shorter than its header says), kCorrupt (bad magic, checksum, counts or
 // tag stream), kUnsupportedVersion (newer major version), kDecodeFailed (Draco refused
 // the mesh), kLimitExceeded (counts beyond max_vertices). On error *image is unchanged.
+// verify_checksum false (ReadOptions::verify_checksums, for fuzzing) ignores a wrong CRC-32.
 Status DecodeDracoPayload(std::span<const uint8_t> payload, const std::string& source_name,
-                          Image* image, uint64_t max_vertices = uint64_t{1} << 26);
+                          Image* image, uint64_t max_vertices = uint64_t{1} << 26,
+                          bool verify_checksum = true);
 
 // Applies a renumbering (new_index_of_vertex[old] = new) to every vertex reference
 // of image: vertices, triangles, crease edges, corners, feature polylines. Returns

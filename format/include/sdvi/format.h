@@ -44,6 +44,9 @@ struct ReadOptions {
   uint32_t max_triangles = 100'000'000;
   uint32_t max_width = kMaxImageSide;
   uint32_t max_height = kMaxImageSide;
+  // false: a CRC-32 that disagrees with the bytes is not an error. Only for fuzzing, so that
+  // mutated inputs reach the checks behind the checksum (the fuzz targets in fuzz/).
+  bool verify_checksums = true;
 };
 
 enum class PayloadKind { kRaw, kDraco };
