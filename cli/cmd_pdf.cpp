@@ -85,6 +85,13 @@ void RegisterExportPdf(CLI::App& app, Outcome& outcome) {
           std::map<std::string, PdfBackground>{{"none", PdfBackground::kNone}, {"white", PdfBackground::kWhite}},
           CLI::ignore_case))
       ->default_str("none");
+  c->add_option("--color-space", o.color_space,
+                "the shading's colour space: device-rgb, or srgb-icc (an embedded sRGB profile, about 3 KB)")
+      ->transform(CLI::CheckedTransformer(
+          std::map<std::string, PdfColorSpace>{{"device-rgb", PdfColorSpace::kDeviceRgb},
+                                               {"srgb-icc", PdfColorSpace::kSrgbIcc}},
+          CLI::ignore_case))
+      ->default_str("device-rgb");
   c->add_option("--coordinate-bits", o.coordinate_bits,
                  "BitsPerCoordinate of the shading (0: the smallest of 8..32 with steps <= 1/64 source pixel)")
       ->check(CLI::IsMember({0, 8, 12, 16, 24, 32}));

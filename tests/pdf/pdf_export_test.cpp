@@ -392,6 +392,56 @@ TEST_CASE("The same input gives byte-identical PDFs", "[pdf]") {
   CHECK(a->bytes == b->bytes);
 }
 
+TEST_CASE("The sRGB profile colour space: an ICC stream, the same shading, byte-identical files", "[pdf]") {
+  const Image image = pdf_test::Gradient(96, 64);
+  PdfExportOptions options;
+  auto device = EncodePdf(image, options);
+  options.color_space = PdfColorSpace::kSrgbIcc;
+  auto icc = EncodePdf(image, options);
+  auto again = EncodePdf(image, options);
+  REQUIRE(device.ok());
+  REQUIRE(icc.ok());
+  REQUIRE(again.ok());
+  CHECK(icc->bytes == again->bytes);  // the profile's creation date is fixed
+
+  auto shading_of = [](QPDF& pdf, const std::vector<uint8_t>& bytes) {
+    pdf.processMemoryFile("export.pdf", reinterpret_cast<const char*>(bytes.data()), bytes.size());
+    QPDFObjectHandle page = QPDFPageDocumentHelper(pdf).getAllPages().at(0).getObjectHandle();
+    return page.getKey("/Resources").getKey("/Shading").getKey("/Sh0");
+  };
+  auto data_of = [](QPDFObjectHandle stream) {
+    auto buffer = stream.getStreamData(qpdf_dl_generalized);
+    return std::string(reinterpret_cast<const char*>(buffer->getBuffer()), buffer->getSize());
+  };
+  QPDF device_pdf, icc_pdf;
+  QPDFObjectHandle device_shading = shading_of(device_pdf, device->bytes);
+  QPDFObjectHandle icc_shading = shading_of(icc_pdf, icc->bytes);
+  CHECK(data_of(icc_shading) == data_of(device_shading));  // the same vertices and colours
+
+  QPDFObjectHandle space = icc_shading.getDict().getKey("/ColorSpace");
+  REQUIRE(space.isArray());
+  REQUIRE(space.getArrayNItems() == 2);
+  CHECK(space.getArrayItem(0).getName() == "/ICCBased");
+  QPDFObjectHandle profile = space.getArrayItem(1);
+  REQUIRE(profile.isStream());
+  CHECK(profile.getDict().getKey("/N").getIntValue() == 3);
+  CHECK(profile.getDict().getKey("/Alternate").getName() == "/DeviceRGB");
+  // The ICC header: its size, a display ('mntr') RGB profile with PCS XYZ, the signature
+  // 'acsp', and the fixed creation date 2000-01-01 00:00:00.
+  const std::string icc_bytes = data_of(profile);
+  REQUIRE(icc_bytes.size() >= 128);
+  auto u32 = [&](size_t at) {
+    return uint32_t(uint8_t(icc_bytes[at])) << 24 | uint32_t(uint8_t(icc_bytes[at + 1])) << 16 |
+           uint32_t(uint8_t(icc_bytes[at + 2])) << 8 | uint32_t(uint8_t(icc_bytes[at + 3]));
+  };
+  CHECK(u32(0) == icc_bytes.size());
+  CHECK(icc_bytes.substr(12, 4) == "mntr");
+  CHECK(icc_bytes.substr(16, 4) == "RGB ");
+  CHECK(icc_bytes.substr(20, 4) == "XYZ ");
+  CHECK(icc_bytes.substr(36, 4) == "acsp");
+  CHECK(icc_bytes.substr(24, 12) == std::string("\x07\xd0\x00\x01\x00\x01\x00\x00\x00\x00\x00\x00", 12));
+}
+
 TEST_CASE("Bad options and inputs give specific codes", "[pdf]") {
   const Image image = pdf_test::Gradient(96, 64);
   auto code = [](const Image& im, PdfExportOptions o) { return EncodePdf(im, o).status().code(); };

@@ -13,6 +13,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include <lcms2.h>
 #include <zlib.h>
 
 #include <qpdf/Buffer.hh>
@@ -483,6 +484,33 @@ QPDFObjectHandle RealArray(const std::vector<double>& values, int decimals) {
   return array;
 }
 
+// Little CMS's built-in sRGB profile (IEC 61966-2-1), serialised. The header's creation date
+// (bytes 24..35, six big-endian 16-bit numbers) is the time the profile object was made; it
+// is set to a fixed 2000-01-01 00:00:00 so that an export is byte-identical run to run.
+StatusOr<std::string> SrgbIccProfile() {
+  cmsHPROFILE profile = cmsCreate_sRGBProfile();
+  if (profile == nullptr) {
+    return Status(StatusCode::kEncodeFailed, "PDF export: Little CMS could not make the sRGB profile");
+  }
+  cmsUInt32Number size = 0;
+  std::string bytes;
+  bool saved = cmsSaveProfileToMem(profile, nullptr, &size) && size >= 128;
+  if (saved) {
+    bytes.resize(size);
+    saved = cmsSaveProfileToMem(profile, bytes.data(), &size) && size == bytes.size();
+  }
+  cmsCloseProfile(profile);
+  if (!saved) {
+    return Status(StatusCode::kEncodeFailed, "PDF export: Little CMS could not write the sRGB profile");
+  }
+  constexpr uint16_t kCreated[6] = {2000, 1, 1, 0, 0, 0};
+  for (int i = 0; i < 6; ++i) {
+    bytes[24 + 2 * i] = char(kCreated[i] >> 8);
+    bytes[25 + 2 * i] = char(kCreated[i] & 0xFF);
+  }
+  return bytes;
+}
+
 std::string MetadataValue(const Image& image, const std::string& key) {
   for (const auto& [k, value] : image.metadata) {
     if (k == key) return value;
@@ -501,7 +529,18 @@ StatusOr<std::vector<uint8_t>> BuildDocument(const Image& image, const PdfExport
   QPDFObjectHandle shading = pdf.newStream();
   QPDFObjectHandle dict = shading.getDict();
   dict.replaceKey("/ShadingType", QPDFObjectHandle::newInteger(4));
-  dict.replaceKey("/ColorSpace", QPDFObjectHandle::newName("/DeviceRGB"));
+  if (options.color_space == PdfColorSpace::kSrgbIcc) {
+    SDVI_ASSIGN_OR_RETURN(std::string icc, SrgbIccProfile());
+    QPDFObjectHandle profile = pdf.newStream(icc);
+    profile.getDict().replaceKey("/N", QPDFObjectHandle::newInteger(3));
+    profile.getDict().replaceKey("/Alternate", QPDFObjectHandle::newName("/DeviceRGB"));
+    QPDFObjectHandle space = QPDFObjectHandle::newArray();
+    space.appendItem(QPDFObjectHandle::newName("/ICCBased"));
+    space.appendItem(profile);
+    dict.replaceKey("/ColorSpace", space);
+  } else {
+    dict.replaceKey("/ColorSpace", QPDFObjectHandle::newName("/DeviceRGB"));
+  }
   dict.replaceKey("/BitsPerCoordinate", QPDFObjectHandle::newInteger(result.bits_per_coordinate));
   dict.replaceKey("/BitsPerComponent", QPDFObjectHandle::newInteger(result.bits_per_component));
   dict.replaceKey("/BitsPerFlag", QPDFObjectHandle::newInteger(result.bits_per_flag));

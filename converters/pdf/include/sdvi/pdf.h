@@ -37,11 +37,18 @@ enum class PdfBackground {
   kWhite,  // the whole page is filled white first
 };
 
+// The shading's colour space (spec/PDF.md "Colour"). Both mean sRGB; the values are the same.
+enum class PdfColorSpace {
+  kDeviceRgb,  // /DeviceRGB: shown as sRGB by the common viewers, no profile in the file
+  kSrgbIcc,    // /ICCBased with Little CMS's sRGB profile (about 3 KB), for colour-managed print
+};
+
 struct PdfExportOptions {
   int levels = -1;          // subdivision level r in [0, kMaxPdfLevels]; -1 = DefaultExportLevels
   double dpi = 72;          // source pixels per inch: page = size * 72 / dpi points
   double width_mm = 0;      // > 0: page width in millimetres (overrides dpi), aspect kept
   PdfBackground background = PdfBackground::kNone;
+  PdfColorSpace color_space = PdfColorSpace::kDeviceRgb;
   int coordinate_bits = 0;  // BitsPerCoordinate: 0 = chosen from the size, else 8, 12, 16, 24, 32
   int color_bits = 8;       // BitsPerComponent: 8, 12 or 16
   Progress* progress = nullptr;  // optional terminal progress (not owned)
