@@ -182,17 +182,25 @@ TEST_CASE("The stencil table does not depend on the number of threads", "[stenci
   for (int i = 2; i < 28; ++i) image.crease_edges.push_back(Edge::Of(test::GridIndex(30, i, 15), test::GridIndex(30, i + 1, 15)));
   std::sort(image.crease_edges.begin(), image.crease_edges.end());
   LimitSurfaceOptions options;
+  // Level 4: each of the three threads' blocks holds several of the chunks (2^18 entries)
+  // that are appended to the first block's arrays.
+  for (int levels : {3, 4}) {
+    options.levels = levels;
+    options.threads = 1;
+    auto one = BuildLimitSurface(image, options);
+    options.threads = 3;
+    auto three = BuildLimitSurface(image, options);
+    REQUIRE(one.ok());
+    REQUIRE(three.ok());
+    REQUIRE(one->stencils.rows() > 3 * 16384);
+    if (levels == 4) REQUIRE(one->stencils.indices.size() > 3 * 3 * (size_t{1} << 18));
+    CHECK(one->stencils.offsets == three->stencils.offsets);
+    CHECK(one->stencils.indices == three->stencils.indices);
+    CHECK(one->stencils.weights == three->stencils.weights);
+    CHECK(one->triangles == three->triangles);
+    CHECK(one->parent_triangle == three->parent_triangle);
+  }
   options.levels = 3;
-  options.threads = 1;
-  auto one = BuildLimitSurface(image, options);
-  options.threads = 3;
-  auto three = BuildLimitSurface(image, options);
-  REQUIRE(one.ok());
-  REQUIRE(three.ok());
-  REQUIRE(one->stencils.rows() > 3 * 16384);
-  CHECK(one->stencils.offsets == three->stencils.offsets);
-  CHECK(one->stencils.indices == three->stencils.indices);
-  CHECK(one->stencils.weights == three->stencils.weights);
   auto direct_one = RefineImage(image, options);
   options.threads = 1;
   auto direct_three = RefineImage(image, options);

@@ -260,6 +260,7 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
   FlipEdgesToData(mesh, raster, mask, options.flip_passes, options.flip_min_angle, options.threads,
                   &flip_cache);
   seconds.triangulate += SecondsSince(start);
+  std::vector<uint8_t>().swap(blocked);  // the initial samples' map: not needed by the fit
 
   ColorFitOptions fit_options = options.fit;
   fit_options.threads = options.threads;
@@ -309,6 +310,9 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
     blocked = BlockedPixels(raster, mask, &mesh, curves, clearance);
     std::vector<Point2> added = SelectRefinementSamples(error, width, height, threshold, spacing,
                                                         mesh.vertices, blocked, want);
+    // The per-pixel maps are not needed by the triangulation and the fit: release them.
+    std::vector<float>().swap(error);
+    std::vector<uint8_t>().swap(blocked);
     seconds.refine += SecondsSince(start);
     if (added.empty()) break;
 

@@ -190,24 +190,61 @@ struct ComposeScratch {
   }
 };
 
-template <typename Weight>
+// An array filled by push_back in chunks of kChunk items, moved onto the end of a vector
+// chunk by chunk (each freed once copied): appending a block of rows to the output never
+// holds a second copy of the whole block.
+template <typename T>
+struct ChunkedArray {
+  using value_type = T;
+  static constexpr size_t kChunk = size_t{1} << 18;
+  std::vector<std::vector<T>> chunks;
+  void push_back(T value) {
+    if (chunks.empty() || chunks.back().size() == kChunk) {
+      chunks.emplace_back();
+      chunks.back().reserve(kChunk);
+    }
+    chunks.back().push_back(value);
+  }
+  void MoveAppendTo(std::vector<T>& out) {
+    for (std::vector<T>& chunk : chunks) {
+      out.insert(out.end(), chunk.begin(), chunk.end());
+      std::vector<T>().swap(chunk);
+    }
+    chunks.clear();
+  }
+};
+
+template <typename T>
+void ReserveEntries(std::vector<T>& v, size_t n) {
+  internal::ReserveLarge(v, n);
+}
+template <typename T>
+void ReserveEntries(ChunkedArray<T>&, size_t) {}
+
+// The rows of one block: the first block's entries go straight into the output arrays
+// (Array = std::vector), the others' into chunks appended to them after (ChunkedArray).
+template <typename Weight, template <typename> typename Array>
 struct RowBlock {
   size_t estimate = 0;  // entries to reserve
   std::vector<uint32_t> sizes;
-  std::vector<uint32_t> indices;
-  std::vector<Weight> weights;
+  Array<uint32_t> indices;
+  Array<Weight> weights;
 };
+
+template <typename T>
+using PlainArray = std::vector<T>;
 
 // Output rows [begin, end) of (mask x previous), or of the mask alone when previous is
 // null (identity): mask_row(r, scratch) fills scratch.row_indices/row_weights with row r of
 // the mask (indices may repeat). Each output row is sorted by index; indices are mapped
 // through index_map when it is non-empty.
-template <typename Weight, typename MaskRow>
+template <typename Block, typename MaskRow>
 void ComposeBlock(size_t begin, size_t end, const MaskRow& mask_row, const SparseRows* previous,
-                  const std::vector<uint32_t>& index_map, ComposeScratch& s, RowBlock<Weight>& out) {
+                  const std::vector<uint32_t>& index_map, ComposeScratch& s, Block& out) {
+  using Weight = typename decltype(out.weights)::value_type;
   out.sizes.reserve(end - begin);
-  internal::ReserveLarge(out.indices, out.estimate);
-  internal::ReserveLarge(out.weights, out.estimate);
+  ReserveEntries(out.indices, out.estimate);
+  ReserveEntries(out.weights, out.estimate);
   for (size_t r = begin; r < end; ++r) {
     const uint32_t row_stamp = static_cast<uint32_t>(r);
     s.touched.clear();
@@ -274,18 +311,22 @@ void Compose(int requested_threads, size_t num_rows, const MaskRow& mask_row, co
              uint32_t num_columns, const std::vector<uint32_t>& index_map, std::vector<uint32_t>& offsets,
              std::vector<uint32_t>& indices, std::vector<Weight>& weights) {
   const unsigned threads = ThreadsFor(num_rows, requested_threads);
-  std::vector<RowBlock<Weight>> blocks(threads);
+  RowBlock<Weight, PlainArray> first;
+  std::vector<RowBlock<Weight, ChunkedArray>> rest(threads - 1);
   // Block 0 reserves room for every block's entries, so that the others are appended to it
   // without a new allocation (untouched reserved pages cost nothing).
   const size_t per_row = previous ? 14 : 7;
-  for (unsigned i = 0; i < threads; ++i) blocks[i].estimate = per_row * (num_rows * (i + 1) / threads - num_rows * i / threads);
-  blocks[0].estimate = per_row * num_rows;
+  first.estimate = per_row * num_rows;
   auto run = [&](unsigned i) {
     ComposeScratch scratch;
     scratch.accumulator.assign(num_columns, 0.0);
     scratch.stamp.assign(num_columns, kNoIndex);
-    ComposeBlock(num_rows * i / threads, num_rows * (i + 1) / threads, mask_row, previous, index_map, scratch,
-                 blocks[i]);
+    const size_t begin = num_rows * i / threads, end = num_rows * (i + 1) / threads;
+    if (i == 0) {
+      ComposeBlock(begin, end, mask_row, previous, index_map, scratch, first);
+    } else {
+      ComposeBlock(begin, end, mask_row, previous, index_map, scratch, rest[i - 1]);
+    }
   };
   if (threads == 1) {
     run(0);
@@ -295,23 +336,24 @@ void Compose(int requested_threads, size_t num_rows, const MaskRow& mask_row, co
     run(0);
     for (std::thread& t : pool) t.join();
   }
-  indices = std::move(blocks[0].indices);
-  weights = std::move(blocks[0].weights);
-  for (unsigned i = 1; i < threads; ++i) {
-    indices.insert(indices.end(), blocks[i].indices.begin(), blocks[i].indices.end());
-    weights.insert(weights.end(), blocks[i].weights.begin(), blocks[i].weights.end());
-    blocks[i].indices = {};
-    blocks[i].weights = {};
+  indices = std::move(first.indices);
+  weights = std::move(first.weights);
+  for (auto& block : rest) {
+    block.indices.MoveAppendTo(indices);
+    block.weights.MoveAppendTo(weights);
   }
   internal::ReserveLarge(offsets, num_rows + 1);
   offsets.resize(num_rows + 1);
   offsets[0] = 0;
   size_t r = 0;
-  for (const auto& b : blocks)
-    for (uint32_t size : b.sizes) {
+  auto add_sizes = [&](const std::vector<uint32_t>& sizes) {
+    for (uint32_t size : sizes) {
       offsets[r + 1] = offsets[r] + size;
       ++r;
     }
+  };
+  add_sizes(first.sizes);
+  for (const auto& block : rest) add_sizes(block.sizes);
 }
 
 // A mask row from precomputed rows (row_list maps output rows to mask rows when non-null).
@@ -398,7 +440,18 @@ StatusOr<LimitSurface> BuildLimitSurface(const Image& image, const LimitSurfaceO
   // never built: a vertex child's limit is its parent's (limit invariance), an edge
   // child's comes from AppendEdgeChildLimitMask.
   const bool refine_once = options.levels > 0;
-  FineSelection selection = SelectOutput(plan, mesh, refine_once, options.levels);
+  // A whole mesh's output vertices are all of the finest level's, in order; its triangles
+  // and parents are selected after the table, once the masks are freed (less peak memory).
+  const bool whole = plan.keep.empty();
+  FineSelection selection;
+  if (whole) {
+    const size_t count = refine_once ? size_t{mesh.num_vertices()} + mesh.num_edges() : mesh.num_vertices();
+    internal::ReserveLarge(selection.vertices, count);
+    selection.vertices.resize(count);
+    for (uint32_t v = 0; v < count; ++v) selection.vertices[v] = v;
+  } else {
+    selection = SelectOutput(plan, mesh, refine_once, options.levels);
+  }
   LimitSurface surface;
   surface.levels = options.levels;
   surface.stencils.num_control = static_cast<uint32_t>(image.vertices.size());
@@ -440,6 +493,10 @@ StatusOr<LimitSurface> BuildLimitSurface(const Image& image, const LimitSurfaceO
     };
     Compose(options.threads, num_rows, limit_row, previous, num_base, plan.vertex_map, table.offsets, table.indices,
             table.weights);
+  }
+  if (whole) {
+    stencils = SparseRows();  // the previous level's: used by the table only
+    selection = SelectOutput(plan, mesh, refine_once, options.levels);
   }
   surface.triangles = std::move(selection.triangles);
   surface.parent_triangle = std::move(selection.parent_triangle);
