@@ -504,3 +504,48 @@ TEST_CASE("svg artwork: crossing hairlines meet at junctions, not cut around the
   CHECK(with > 30.0);
   CHECK(without < with - 6.0);
 }
+
+TEST_CASE("svg artwork: an open stroke with round caps is one closed feature around its outline", "[svg]") {
+  // A 10 px wide horizontal line from (24, 32) to (104, 32): its outline is the two sides at
+  // y = 27 and 37 and half circles of radius 5 around both ends.
+  auto doc_with = [](const std::string& cap) {
+    return Doc("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"128\" height=\"64\">"
+               "<rect width=\"128\" height=\"64\" fill=\"white\"/>"
+               "<line x1=\"24\" y1=\"32\" x2=\"104\" y2=\"32\" stroke=\"black\" stroke-width=\"10\"" +
+               cap + "/></svg>");
+  };
+  const sdvi::SvgDocument round = doc_with(" stroke-linecap=\"round\"");
+  const sdvi::SvgGeometry traced = Traced(round, 128, 64);
+  // The background covers the surface and is painted, not filled: the stroke is the shape.
+  REQUIRE(traced.shapes.size() == 1);
+  CHECK(traced.shapes[0].paint == sdvi::SvgPaint::kStroke);
+  CHECK(traced.shapes[0].line_cap == sdvi::SvgLineCap::kRound);
+  CHECK(Traced(doc_with(" stroke-linecap=\"square\""), 128, 64).shapes[0].line_cap == sdvi::SvgLineCap::kSquare);
+  CHECK(Traced(doc_with(""), 128, 64).shapes[0].line_cap == sdvi::SvgLineCap::kButt);
+
+  auto reference = sdvi::RenderSvg(round, 128, 64);
+  REQUIRE(reference.ok());
+  const std::vector<sdvi::FeatureCurve> curves = sdvi::ArtworkFeatures(traced.shapes, *reference, {});
+  REQUIRE(curves.size() == 1);
+  CHECK(curves[0].closed);
+  CHECK(curves[0].width == 0);
+  // The spline follows the outline: distance 5 from the centre segment, within 0.5 px.
+  double x_min = 1e9, x_max = -1e9;
+  for (const sdvi::Point2& p : sdvi::SampleFeatureCurve(curves[0])) {
+    const double dx = std::max({24.0 - p.x, 0.0, p.x - 104.0});
+    CHECK(std::hypot(dx, p.y - 32) == Approx(5).margin(0.5));
+    x_min = std::min(x_min, p.x), x_max = std::max(x_max, p.x);
+  }
+  CHECK(x_min < 19.5);  // around both caps
+  CHECK(x_max > 108.5);
+
+  // A butt-capped one keeps its two sides as open features.
+  const sdvi::SvgDocument butt = doc_with("");
+  auto butt_reference = sdvi::RenderSvg(butt, 128, 64);
+  REQUIRE(butt_reference.ok());
+  const std::vector<sdvi::FeatureCurve> sides =
+      sdvi::ArtworkFeatures(Traced(butt, 128, 64).shapes, *butt_reference, {});
+  REQUIRE(sides.size() == 2);
+  CHECK_FALSE(sides[0].closed);
+  CHECK_FALSE(sides[1].closed);
+}

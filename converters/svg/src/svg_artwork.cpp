@@ -287,7 +287,11 @@ Window OutlineWindow(const SvgShape& shape, const Raster& reference) {
   return WindowOf(reference, kProbe + 1 + (shape.paint == SvgPaint::kStroke ? shape.stroke_width / 2 : 0));
 }
 
-std::vector<Side> SidesOf(const SvgShape& shape, const SvgOutline& outline, std::vector<Sample> centre) {
+// The sides of one outline: a fill's outline itself; a thin stroke's centreline (width);
+// a wider stroke's two sides at +-half the width, or, open with round caps, its whole
+// outline (centre samples `spacing` apart, the caps' likewise).
+std::vector<Side> SidesOf(const SvgShape& shape, const SvgOutline& outline, std::vector<Sample> centre,
+                          double spacing) {
   std::vector<Side> sides;
   if (centre.size() < 2) return sides;
   if (shape.paint != SvgPaint::kStroke) {
@@ -298,6 +302,44 @@ std::vector<Side> SidesOf(const SvgShape& shape, const SvgOutline& outline, std:
   if (half <= 0) return sides;
   if (shape.stroke_width < kThinStroke) {
     sides.push_back({std::move(centre), outline.closed, kProbe, 0, shape.stroke_width, {}});
+    return sides;
+  }
+  if (!outline.closed && shape.line_cap == SvgLineCap::kRound) {
+    // An open stroke with round caps: its whole outline as one closed side, outside on the
+    // left of travel (normal = outward): the +normal side forward, the half circle around
+    // the end, the -normal side backward, the half circle around the start. The caps meet
+    // the sides tangentially, so one feature can run through them.
+    Side side;
+    side.closed = true;
+    side.inner_probe = std::clamp(half, 0.5, kProbe);
+    side.outward = 1;
+    auto cap = [&](Point2 c, Point2 n, Point2 t) {  // from c + half n through c + half t to c - half n
+      const int pieces = std::max(2, int(std::ceil(kPi * half / spacing)));
+      for (int k = 1; k < pieces; ++k) {
+        const double a = kPi * k / pieces;
+        const Point2 r{std::cos(a) * n.x + std::sin(a) * t.x, std::cos(a) * n.y + std::sin(a) * t.y};
+        Sample q;
+        q.p = {c.x + half * r.x, c.y + half * r.y};
+        q.normal = r;
+        side.samples.push_back(q);
+      }
+    };
+    const size_t m = centre.size();
+    for (size_t i = 0; i < m; ++i) {
+      Sample t = centre[i];
+      t.p = {t.p.x + half * t.normal.x, t.p.y + half * t.normal.y};
+      side.samples.push_back(t);
+    }
+    const Point2 end_n = centre[m - 1].normal, start_n = centre[0].normal;
+    cap(centre[m - 1].p, end_n, {end_n.y, -end_n.x});
+    for (size_t i = m; i-- > 0;) {
+      Sample t = centre[i];
+      t.p = {t.p.x - half * t.normal.x, t.p.y - half * t.normal.y};
+      t.normal = {-t.normal.x, -t.normal.y};
+      side.samples.push_back(t);
+    }
+    cap(centre[0].p, {-start_n.x, -start_n.y}, {-start_n.y, start_n.x});
+    sides.push_back(std::move(side));
     return sides;
   }
   for (double sign : {1.0, -1.0}) {
@@ -760,7 +802,7 @@ std::vector<FeatureCurve> ArtworkFeatures(const std::vector<SvgShape>& shapes, c
     }
     for (size_t k = 0; k < flat.size(); ++k) {
       const bool stroke = shape->paint == SvgPaint::kStroke;
-      for (Side& side : SidesOf(*shape, shape->outlines[k], std::move(flat[k]))) {
+      for (Side& side : SidesOf(*shape, shape->outlines[k], std::move(flat[k]), o.sample_spacing)) {
         side.crossing = shape->tiled && shape->paint == SvgPaint::kFill;  // the lines and the fill they end at
         AddSideFeatures(side, stroke && side.width == 0, reference, o, &claimed, &curves);
       }

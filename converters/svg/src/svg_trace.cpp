@@ -4,6 +4,7 @@
 // used it. This file reads back the few operators that carry geometry:
 //   n                      new path          x y m / x y l / x1 y1 x2 y2 x3 y3 c / h
 //   x y w h rectangle      a closed box      fill[+] stroke[+] clip[+]   the painting
+//   //LINE_CAP_x set-line-cap (the stroke's cap),
 //   w set-line-width, [a b c d e f] | identity set-matrix, sx sy scale, [...] transform:
 //                          the stroke width in device pixels = width x sqrt(|det CTM|)
 //   context ... pop, save ... restore: graphics-state scopes. Between linear / radial /
@@ -193,6 +194,7 @@ std::vector<SvgOutline> ChainSegments(std::vector<Segment> segments) {
 
 struct GraphicsState {
   double line_width = 2.0;  // cairo's default
+  SvgLineCap line_cap = SvgLineCap::kButt;  // cairo's default
   double det = 1.0;         // |det| of the CTM
   // The source, when it is a repeated pattern: its tile surface and the pattern's matrix
   // (device -> tile space; cairo hands patterns to the script surface in device space).
@@ -331,6 +333,7 @@ class ScriptReader {
     const GraphicsState& g = states_.back();
     shape.scale = std::sqrt(g.det);
     shape.stroke_width = paint == SvgPaint::kStroke ? g.line_width * shape.scale : 0;
+    shape.line_cap = g.line_cap;
     for (const SvgOutline& o : path_) {
       if (o.points.size() >= 4) shape.outlines.push_back(o);
     }
@@ -589,6 +592,10 @@ class ScriptReader {
       Paint(SvgPaint::kClip);
     } else if (t == "set-line-width" && Take(1, a)) {
       g.line_width = std::abs(a[0]);
+    } else if (t == "set-line-cap") {
+      g.line_cap = literal_ == "//LINE_CAP_ROUND"    ? SvgLineCap::kRound
+                   : literal_ == "//LINE_CAP_SQUARE" ? SvgLineCap::kSquare
+                                                     : SvgLineCap::kButt;
     } else if (t == "identity") {
       array_ = {1, 0, 0, 1, 0, 0};
       have_array_ = true;

@@ -125,12 +125,16 @@ struct SvgOutline {
 };
 
 enum class SvgPaint { kFill, kStroke, kClip };
+// How a stroke's open ends are drawn (cairo's line cap, as librsvg sets it from
+// stroke-linecap).
+enum class SvgLineCap { kButt, kRound, kSquare };
 
 // One painting operation: a path filled, stroked (stroke_width in output pixels) or used
 // as a clip.
 struct SvgShape {
   SvgPaint paint = SvgPaint::kFill;
   double stroke_width = 0;
+  SvgLineCap line_cap = SvgLineCap::kButt;  // a stroke's
   double scale = 1;  // output pixels per user unit where it was painted (sqrt |det| of the CTM)
   std::vector<SvgOutline> outlines;
   // Copied from a pattern's tiles over a fill (spec/SVG.md, section 1, "Patterns"): a copy
