@@ -146,7 +146,10 @@ int Info(const InfoArgs& args) {
                                           std::to_string(draco->version_minor)},
                   {"position_bits", draco->position_bits},
                   {"color_bits", draco->color_bits},
-                  {"colors", draco->grey ? "grey" : draco->decorrelated ? "decorrelated" : "rgb"},
+                  {"colors", draco->grey                ? "grey"
+                             : draco->neighbour_mean ? "decorrelated, neighbour mean"
+                             : draco->decorrelated   ? "decorrelated"
+                                                     : "rgb"},
                   {"speed", draco->speed},
                   {"draco_bytes", draco->draco_bytes},
                   {"tag_bytes", draco->tag_bytes}};

@@ -32,8 +32,8 @@
 // used (1% of the fit's MSE; container params recorded, as v1 wrote them), rd = what `vectorize --compress` writes now (CompressForRate,
 // sdvi/rate.h), rd0 = the same RD search without the colour refit (RateOptions::refit_colors
 // false: colours fitted on the float positions, then quantised; the A/B of spec/RATE.md 3).
-// rd11 = rd with payload 1.1's tag stream (crease edges first, RateOptions::features_first
-// false; the A/B of spec/RATE.md 5).
+// rd11 = rd as payload 1.1 codes it (crease edges first, no neighbour-mean colours:
+// RateOptions::features_first and neighbour_mean false; the A/B of spec/RATE.md 5).
 // --variants picks them (default v1,rd); --baseline = --variants v1 (the BEFORE table). With
 // several variants each is also compared with the first (BD-rate sdvi against sdvi).
 // --codecs limits the codecs searched (the others print '-'; the searches dominate the time).
@@ -388,7 +388,7 @@ sdvi::StatusOr<std::vector<SdviPoint>> RunSdvi(const sdvi::Raster& raster, const
       sdvi::RateOptions rate;
       rate.threads = threads;
       rate.refit_colors = variant != "rd0";
-      rate.features_first = variant != "rd11";
+      rate.features_first = rate.neighbour_mean = variant != "rd11";
       SDVI_ASSIGN_OR_RETURN(sdvi::RateResult r, sdvi::CompressForRate(result, raster, nullptr, options.fit, rate));
       p.file = std::move(r.file);
     }
@@ -535,7 +535,7 @@ int main(int argc, char** argv) {
   const size_t nv = variants.size();
   std::printf("sdvi files: v1 = Draco at the v1 `vectorize --compress` steps (1%% of the fit's MSE); rd = "
               "`vectorize --compress` now (CompressForRate: RD-chosen steps, colours refitted); rd0 = rd without "
-              "the refit; rd11 = rd in payload 1.1 (crease edges before the feature layer). Here: %s.\n", [&] {
+              "the refit; rd11 = rd in payload 1.1 (crease edges before the feature layer, no neighbour-mean colours). Here: %s.\n", [&] {
                 std::string list;
                 for (const std::string& v : variants) list += (list.empty() ? "" : ", ") + v;
                 return list;

@@ -15,6 +15,7 @@
 #include <draco/compression/encode.h>
 #include <draco/compression/expert_encode.h>
 #include <draco/mesh/mesh.h>
+#include <draco/metadata/geometry_metadata.h>
 
 #include "range_coder.h"
 #include "sdvi/codec.h"
@@ -28,9 +29,9 @@ using codec_internal::MeshEdge;
 // Header layout (little-endian), 40 bytes.
 constexpr char kMagic[4] = {'S', 'D', 'R', 'C'};
 constexpr uint8_t kVersionMajor = 1;
-// Written: the lowest of 1.1 and 1.2 that allows the flags used (1.1: flag bits 3, 4 and 5
-// allowed; 1.2: bit 6 too); read: 1.0, 1.1 and 1.2 (spec/FORMAT.md 8.1).
-constexpr uint8_t kVersionMinor = 2;
+// Written: the lowest of 1.1, 1.2 and 1.3 that allows the flags used (1.1: flag bits 3, 4
+// and 5 allowed; 1.2: bit 6 too; 1.3: bit 7 too); read: 1.0 .. 1.3 (spec/FORMAT.md 8.1).
+constexpr uint8_t kVersionMinor = 3;
 constexpr size_t kHeaderSize = 40;
 constexpr size_t kCrcOffset = 36;
 constexpr uint8_t kFlagVertexIds = 1;     // the Draco mesh has the vertex id attribute
@@ -40,8 +41,9 @@ constexpr uint8_t kFlagDecorrelated = 8;  // colours as L (COLOR), C1, C2 (GENER
 constexpr uint8_t kFlagCompactPairs = 16;  // the feature layer's pairs coded compactly
 constexpr uint8_t kFlagRankedStarts = 32;  // the feature layer's polyline starts ranked
 constexpr uint8_t kFlagFeaturesFirst = 64;  // the feature layer first, polylines along mesh edges
+constexpr uint8_t kFlagMeanColors = 128;    // decorrelated colours predicted by the decoded neighbours' mean
 constexpr uint8_t kKnownFlags = kFlagVertexIds | kFlagFeatureLayer | kFlagGrey | kFlagDecorrelated |
-                                kFlagCompactPairs | kFlagRankedStarts | kFlagFeaturesFirst;
+                                kFlagCompactPairs | kFlagRankedStarts | kFlagFeaturesFirst | kFlagMeanColors;
 
 // Draco attribute unique ids, in the order the attributes are added.
 constexpr uint32_t kPositionUniqueId = 0;
@@ -60,6 +62,42 @@ std::array<float, 3> ToDecorrelated(const Vertex& v) {
 std::array<float, 3> FromDecorrelated(float l, float c1, float c2) {
   const double y = l * kInvSqrt3, u = c1 * kInvSqrt2, w = c2 * kInvSqrt6;
   return {float(y + u + w), float(y - 2 * w), float(y - u + w)};
+}
+
+// Neighbour-mean colours (payload 1.3, flag bit 7; spec/FORMAT.md 8.2): L, C1, C2 as indices q
+// on grids value = origin + q step (the step and origins in the Draco mesh's metadata), each
+// coded as q minus its prediction from the points decoded before it.
+const char kMeanStepKey[] = "sdvi_colour_step";
+const char kMeanOriginKey[] = "sdvi_colour_origin";
+constexpr int64_t kMaxGridIndex = int64_t{1} << 40;
+
+// For every point (Draco's decoded order) its neighbours along the faces' edges that come
+// before it, ascending.
+std::vector<std::vector<uint32_t>> EarlierNeighbours(size_t points, const std::vector<std::array<uint32_t, 3>>& faces) {
+  std::vector<std::vector<uint32_t>> out(points);
+  for (const auto& f : faces)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = f[k], b = f[(k + 1) % 3];
+      if (a < b) out[b].push_back(a);
+      else if (b < a) out[a].push_back(b);
+    }
+  for (auto& n : out) {
+    std::sort(n.begin(), n.end());
+    n.erase(std::unique(n.begin(), n.end()), n.end());
+  }
+  return out;
+}
+
+// The prediction of point p's component k: the mean of q over its earlier neighbours rounded
+// half up (floor((2 sum + c) / (2 c)) for c of them); without any, q of point p - 1; for point 0, 0.
+int64_t MeanPrediction(const std::vector<uint32_t>& earlier, const std::vector<std::array<int64_t, 3>>& q, size_t p,
+                       int k) {
+  if (earlier.empty()) return p > 0 ? q[p - 1][k] : 0;
+  int64_t sum = 0;
+  for (uint32_t j : earlier) sum += q[j][k];
+  const int64_t c = static_cast<int64_t>(earlier.size());
+  const int64_t a = 2 * sum + c, b = 2 * c;
+  return a >= 0 ? a / b : -((-a + b - 1) / b);
 }
 
 // How the colour attributes of a Draco mesh are laid out.
@@ -111,11 +149,12 @@ StatusOr<Header> ParseHeader(std::span<const uint8_t> payload, const std::string
   if (h.major != kVersionMajor || h.minor > kVersionMinor)
     return Status(h.major < kVersionMajor ? StatusCode::kCorrupt : StatusCode::kUnsupportedVersion,
                   what + " has version " + std::to_string(h.major) + "." +
-                      std::to_string(h.minor) + "; this build reads versions 1.0, 1.1 and 1.2");
+                      std::to_string(h.minor) + "; this build reads versions 1.0 to 1.3");
   constexpr uint8_t kFlags11 = kFlagDecorrelated | kFlagCompactPairs | kFlagRankedStarts;
   constexpr uint8_t kFlagsUnderFirst = kFlagFeatureLayer | kFlagCompactPairs | kFlagRankedStarts;
   if ((h.flags & ~kKnownFlags) || (h.minor == 0 && (h.flags & kFlags11)) ||
-      (h.minor < 2 && (h.flags & kFlagFeaturesFirst)) ||
+      (h.minor < 2 && (h.flags & kFlagFeaturesFirst)) || (h.minor < 3 && (h.flags & kFlagMeanColors)) ||
+      ((h.flags & kFlagMeanColors) && (h.flags & (kFlagDecorrelated | kFlagVertexIds)) != kFlagDecorrelated) ||
       ((h.flags & (kFlagCompactPairs | kFlagRankedStarts)) && !(h.flags & kFlagFeatureLayer)) ||
       ((h.flags & kFlagFeaturesFirst) && (h.flags & kFlagsUnderFirst) != kFlagsUnderFirst))
     return Status(StatusCode::kCorrupt, what + " (version " + std::to_string(h.major) + "." +
@@ -152,7 +191,7 @@ bool ReadAttribute(const draco::PointAttribute* attribute, uint32_t point, T* ou
 }
 
 StatusOr<DecodedMesh> DecodeDracoMesh(std::span<const uint8_t> bytes, const std::string& source,
-                                      bool decorrelated) {
+                                      bool decorrelated, bool mean = false) {
   const std::string what = source + ": Draco mesh";
   draco::DecoderBuffer buffer;
   buffer.Init(reinterpret_cast<const char*>(bytes.data()), bytes.size());
@@ -178,14 +217,28 @@ StatusOr<DecodedMesh> DecodeDracoMesh(std::span<const uint8_t> bytes, const std:
   const draco::PointAttribute* c1 = mesh.GetAttributeByUniqueId(kC1UniqueId);
   const draco::PointAttribute* c2 = mesh.GetAttributeByUniqueId(kC2UniqueId);
   if (decorrelated) {
-    auto opponent = [](const draco::PointAttribute* a) {
+    const draco::DataType type = mean ? draco::DT_INT32 : draco::DT_FLOAT32;
+    auto opponent = [type](const draco::PointAttribute* a) {
       return a && a->attribute_type() == draco::GeometryAttribute::GENERIC && a->num_components() == 1 &&
-             a->data_type() == draco::DT_FLOAT32;
+             a->data_type() == type;
     };
-    if (color->num_components() != 1 || !opponent(c1) || !opponent(c2))
+    if (color->num_components() != 1 || (mean && color->data_type() != type) || !opponent(c1) || !opponent(c2))
       return Status(StatusCode::kCorrupt, what + " lacks the decorrelated colours its header flags (1-component "
-                                                 "COLOR, float32 GENERIC unique ids 3 and 4)");
+                                                 "COLOR, GENERIC unique ids 3 and 4, " +
+                                                 (mean ? "int32" : "float32") + ")");
   }
+  double mean_step = 0;
+  std::vector<double> mean_origin;
+  if (mean) {
+    const draco::GeometryMetadata* metadata = mesh.GetMetadata();
+    if (!metadata || !metadata->GetEntryDouble(kMeanStepKey, &mean_step) ||
+        !metadata->GetEntryDoubleArray(kMeanOriginKey, &mean_origin) || mean_origin.size() != 3 ||
+        !(mean_step > 0) || !std::isfinite(mean_step) ||
+        !std::all_of(mean_origin.begin(), mean_origin.end(), [](double o) { return std::isfinite(o); }))
+      return Status(StatusCode::kCorrupt, what + " lacks the colour grid (metadata " + kMeanStepKey + " > 0, " +
+                                              kMeanOriginKey + " of 3 finite values) its header flags");
+  }
+  std::vector<std::array<int64_t, 3>> residuals(mean ? mesh.num_points() : 0);
   if (id && (id->attribute_type() != draco::GeometryAttribute::GENERIC ||
              id->num_components() != 1 || id->data_type() != draco::DT_UINT32))
     return Status(StatusCode::kCorrupt, what + ": attribute unique id 2 is not a 1-component uint32 GENERIC");
@@ -198,7 +251,11 @@ StatusOr<DecodedMesh> DecodeDracoMesh(std::span<const uint8_t> bytes, const std:
     float xy[2], rgb[3];
     bool color_ok = ReadAttribute(color, p, rgb);  // 1 or 3 components
     if (out.grey) rgb[1] = rgb[2] = rgb[0];
-    if (decorrelated) {
+    if (mean) {
+      int32_t r[3] = {0, 0, 0};
+      color_ok = ReadAttribute(color, p, &r[0]) && ReadAttribute(c1, p, &r[1]) && ReadAttribute(c2, p, &r[2]);
+      residuals[p] = {r[0], r[1], r[2]};
+    } else if (decorrelated) {
       color_ok = color_ok && ReadAttribute(c1, p, &rgb[1]) && ReadAttribute(c2, p, &rgb[2]);
       const std::array<float, 3> back = FromDecorrelated(rgb[0], rgb[1], rgb[2]);
       std::copy(back.begin(), back.end(), rgb);
@@ -219,7 +276,107 @@ StatusOr<DecodedMesh> DecodeDracoMesh(std::span<const uint8_t> bytes, const std:
       out.faces[f][k] = face[k].value();
     }
   }
+  if (mean) {
+    // The grid indices point by point from the residuals, then L, C1, C2 on the grids.
+    const auto earlier = EarlierNeighbours(n, out.faces);
+    std::vector<std::array<int64_t, 3>> q(n);
+    for (uint32_t p = 0; p < n; ++p) {
+      for (int k = 0; k < 3; ++k) {
+        q[p][k] = MeanPrediction(earlier[p], q, p, k) + residuals[p][k];
+        if (std::abs(q[p][k]) > kMaxGridIndex)
+          return Status(StatusCode::kCorrupt, what + ": point " + std::to_string(p) + "'s colour lies off its grid");
+      }
+      float lcc[3];
+      for (int k = 0; k < 3; ++k) lcc[k] = static_cast<float>(mean_origin[k] + double(q[p][k]) * mean_step);
+      const std::array<float, 3> back = FromDecorrelated(lcc[0], lcc[1], lcc[2]);
+      out.points[p].r = back[0];
+      out.points[p].g = back[1];
+      out.points[p].b = back[2];
+    }
+  }
   return out;
+}
+
+// The Draco mesh of image's control mesh (no vertex ids) with neighbour-mean colours: the
+// positions, and per vertex the residuals of L, C1, C2 (their grid indices minus
+// MeanPrediction in the decoded order, where vertex i is point decoded_index[i]), the grid in
+// the metadata. Fails (kInvalidArgument) when a residual does not fit int32.
+StatusOr<std::unique_ptr<draco::Mesh>> BuildMeanColorMesh(const Image& image, const std::vector<uint32_t>& decoded_index,
+                                                          double step) {
+  const uint32_t n = static_cast<uint32_t>(image.vertices.size());
+  std::vector<std::array<float, 3>> lcc(n);
+  std::array<double, 3> origin;
+  origin.fill(std::numeric_limits<double>::infinity());
+  for (uint32_t i = 0; i < n; ++i) {
+    lcc[i] = ToDecorrelated(image.vertices[i]);
+    for (int k = 0; k < 3; ++k) origin[k] = std::min(origin[k], double(lcc[i][k]));
+  }
+  std::vector<std::array<int64_t, 3>> q(n);  // in the decoded order
+  for (uint32_t i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) q[decoded_index[i]][k] = std::llround((double(lcc[i][k]) - origin[k]) / step);
+  std::vector<std::array<uint32_t, 3>> faces(image.triangles.size());
+  for (size_t t = 0; t < faces.size(); ++t)
+    for (int k = 0; k < 3; ++k) faces[t][k] = decoded_index[image.triangles[t].v[k]];
+  const auto earlier = EarlierNeighbours(n, faces);
+
+  auto mesh = std::make_unique<draco::Mesh>();
+  mesh->set_num_points(n);
+  draco::GeometryAttribute position;
+  position.Init(draco::GeometryAttribute::POSITION, nullptr, 2, draco::DT_FLOAT32, false, 2 * sizeof(float), 0);
+  const int position_id = mesh->AddAttribute(position, true, n);
+  mesh->attribute(position_id)->set_unique_id(kPositionUniqueId);
+  int ids[3];
+  const uint32_t unique_ids[3] = {kColorUniqueId, kC1UniqueId, kC2UniqueId};
+  for (int k = 0; k < 3; ++k) {
+    draco::GeometryAttribute residual;
+    residual.Init(k == 0 ? draco::GeometryAttribute::COLOR : draco::GeometryAttribute::GENERIC, nullptr, 1,
+                  draco::DT_INT32, false, sizeof(int32_t), 0);
+    ids[k] = mesh->AddAttribute(residual, true, n);
+    mesh->attribute(ids[k])->set_unique_id(unique_ids[k]);
+  }
+  for (uint32_t i = 0; i < n; ++i) {
+    const Vertex& v = image.vertices[i];
+    const float xy[2] = {v.x, v.y};
+    mesh->attribute(position_id)->SetAttributeValue(draco::AttributeValueIndex(i), xy);
+    const uint32_t p = decoded_index[i];
+    for (int k = 0; k < 3; ++k) {
+      const int64_t r = q[p][k] - MeanPrediction(earlier[p], q, p, k);
+      if (r < std::numeric_limits<int32_t>::min() || r > std::numeric_limits<int32_t>::max())
+        return Status(StatusCode::kInvalidArgument, "a colour residual does not fit 32 bits");
+      const int32_t value = static_cast<int32_t>(r);
+      mesh->attribute(ids[k])->SetAttributeValue(draco::AttributeValueIndex(i), &value);
+    }
+  }
+  mesh->SetNumFaces(image.triangles.size());
+  for (size_t t = 0; t < image.triangles.size(); ++t) {
+    const auto& tri = image.triangles[t].v;
+    mesh->SetFace(draco::FaceIndex(static_cast<uint32_t>(t)),
+                  {draco::PointIndex(tri[0]), draco::PointIndex(tri[1]), draco::PointIndex(tri[2])});
+  }
+  auto metadata = std::make_unique<draco::GeometryMetadata>();
+  metadata->AddEntryDouble(kMeanStepKey, step);
+  metadata->AddEntryDoubleArray(kMeanOriginKey, std::vector<double>(origin.begin(), origin.end()));
+  mesh->AddMetadata(std::move(metadata));
+  return mesh;
+}
+
+// A mesh of BuildMeanColorMesh: positions at position_bits, the residuals as they are (no
+// quantization, no prediction).
+StatusOr<std::vector<uint8_t>> EncodeMeanColorMesh(const draco::Mesh& mesh, int position_bits, int speed) {
+  draco::ExpertEncoder encoder(mesh);
+  for (int a = 0; a < mesh.num_attributes(); ++a) {
+    if (mesh.attribute(a)->attribute_type() == draco::GeometryAttribute::POSITION)
+      encoder.SetAttributeQuantization(a, position_bits);
+    else
+      encoder.SetAttributePredictionScheme(a, draco::PREDICTION_NONE);
+  }
+  encoder.SetSpeedOptions(speed, speed);
+  encoder.SetEncodingMethod(draco::MESH_EDGEBREAKER_ENCODING);
+  draco::EncoderBuffer buffer;
+  const draco::Status status = encoder.EncodeToBuffer(&buffer);
+  if (!status.ok()) return Status(StatusCode::kEncodeFailed, "Draco encoder: " + status.error_msg_string());
+  const auto* data = reinterpret_cast<const uint8_t*>(buffer.data());
+  return std::vector<uint8_t>(data, data + buffer.size());
 }
 
 // The Draco mesh of image's control mesh, with or without the vertex id attribute.
@@ -672,6 +829,44 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
     return out;
   };
 
+  // The colours predicted by the mean of the neighbours decoded before (payload 1.3), in the
+  // decoded order of reference (a mesh without vertex ids): decoded and checked against it
+  // (the same points and faces, colours within the decorrelated bound) before it is kept.
+  auto encode_mean = [&](const DracoMesh& reference) -> StatusOr<DracoMesh> {
+    const std::string self = "compressed image (self-check)";
+    SDVI_ASSIGN_OR_RETURN(std::unique_ptr<draco::Mesh> mesh,
+                          BuildMeanColorMesh(image, reference.renumbering, color_step));
+    SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, EncodeMeanColorMesh(*mesh, position_bits, options.speed));
+    SDVI_ASSIGN_OR_RETURN(DecodedMesh decoded, DecodeDracoMesh(bytes, self, true, true));
+    const ErrorBound bound = CompressionErrorBound(image, position_bits, color_bits, true);
+    bool same = decoded.ids.empty() && decoded.points.size() == n && decoded.faces.size() == image.triangles.size();
+    for (uint32_t i = 0; i < n && same; ++i) {
+      const Vertex& a = decoded.points[reference.renumbering[i]];
+      const Vertex& b = image.vertices[i];
+      const Vertex& c = reference.decoded[reference.renumbering[i]];
+      same = a.x == c.x && a.y == c.y && std::abs(a.r - b.r) <= bound.color && std::abs(a.g - b.g) <= bound.color &&
+             std::abs(a.b - b.b) <= bound.color;
+    }
+    if (same) {
+      std::vector<Triangle> got(decoded.faces.size()), want(image.triangles.size());
+      for (size_t f = 0; f < got.size(); ++f)
+        for (int k = 0; k < 3; ++k) {
+          got[f].v[k] = decoded.faces[f][k];
+          want[f].v[k] = reference.renumbering[image.triangles[f].v[k]];
+        }
+      CanonicalizeTriangles(&got);
+      CanonicalizeTriangles(&want);
+      same = got == want;
+    }
+    if (!same) return Status(StatusCode::kEncodeFailed, "neighbour-mean colours do not decode in the same order");
+    DracoMesh out;
+    out.bytes = std::move(bytes);
+    out.renumbering = reference.renumbering;
+    out.with_ids = false;
+    out.decoded = std::move(decoded.points);
+    return out;
+  };
+
   DracoMesh chosen;
   bool decorrelated = false;
   try {
@@ -688,6 +883,21 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
     }
   } catch (const std::bad_alloc&) {
     return Status(StatusCode::kLimitExceeded, "out of memory while compressing the image");
+  }
+  // Neighbour-mean colours (kSmallest): in the traversal of a candidate without vertex ids,
+  // kept when smaller.
+  bool mean_colors = false;
+  if (!grey && options.color_coding == ColorCoding::kSmallest && options.neighbour_mean && !chosen.with_ids &&
+      !chosen.renumbering.empty()) {
+    try {
+      StatusOr<DracoMesh> mean = encode_mean(chosen);
+      if (mean.ok() && mean->bytes.size() < chosen.bytes.size()) {
+        chosen = std::move(mean).value();
+        decorrelated = mean_colors = true;
+      }
+    } catch (const std::bad_alloc&) {
+      return Status(StatusCode::kLimitExceeded, "out of memory while compressing the image");
+    }
   }
   std::vector<uint8_t> draco_bytes = std::move(chosen.bytes);
   std::vector<uint32_t> renumbering = std::move(chosen.renumbering);
@@ -722,12 +932,12 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
   std::vector<uint8_t> payload(kHeaderSize + draco_bytes.size() + tags.size(), 0);
   std::memcpy(payload.data(), kMagic, 4);
   payload[4] = kVersionMajor;
-  payload[5] = features_first ? kVersionMinor : 1;
+  payload[5] = mean_colors ? 3 : features_first ? 2 : 1;
   payload[6] = static_cast<uint8_t>((with_ids ? kFlagVertexIds : 0) |
                                     (options.feature_layer ? kFlagFeatureLayer : 0) |
                                     (grey ? kFlagGrey : 0) | (decorrelated ? kFlagDecorrelated : 0) |
                                     (options.feature_layer ? kFlagCompactPairs | kFlagRankedStarts : 0) |
-                                    (features_first ? kFlagFeaturesFirst : 0));
+                                    (features_first ? kFlagFeaturesFirst : 0) | (mean_colors ? kFlagMeanColors : 0));
   payload[7] = static_cast<uint8_t>(position_bits);
   payload[8] = static_cast<uint8_t>(color_bits);
   payload[9] = static_cast<uint8_t>(options.speed);
@@ -768,7 +978,7 @@ Status DecodeDracoPayload(std::span<const uint8_t> payload, const std::string& s
   try {
     SDVI_ASSIGN_OR_RETURN(DecodedMesh mesh,
                           DecodeDracoMesh(payload.subspan(kHeaderSize, h.draco_size), source_name,
-                                          (h.flags & kFlagDecorrelated) != 0));
+                                          (h.flags & kFlagDecorrelated) != 0, (h.flags & kFlagMeanColors) != 0));
     if (mesh.grey != ((h.flags & kFlagGrey) != 0))
       return Status(StatusCode::kCorrupt, what + ": the Draco COLOR attribute has " +
                                               (mesh.grey ? "1 component" : "3 components") +
@@ -864,6 +1074,7 @@ StatusOr<DracoPayloadInfo> InspectDracoPayload(std::span<const uint8_t> payload,
   info.has_feature_layer = (h.flags & kFlagFeatureLayer) != 0;
   info.grey = (h.flags & kFlagGrey) != 0;
   info.decorrelated = (h.flags & kFlagDecorrelated) != 0;
+  info.neighbour_mean = (h.flags & kFlagMeanColors) != 0;
   return info;
 }
 

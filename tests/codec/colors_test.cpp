@@ -202,11 +202,11 @@ TEST_CASE("decorrelated payload header rules", "[codec][colors][corrupt]") {
   // A later minor version: unsupported (its stream may mean something else); an unknown
   // flag, or the decorrelated flag in a 1.0 payload: corrupt.
   bad = good;
-  bad[5] = 3;
+  bad[5] = 4;
   sdvi::testing::FixPayloadChecksum(&bad);
   status = sdvi::DecodeDracoPayload(bad, "later.sdvi", &out);
   CHECK(status.code() == StatusCode::kUnsupportedVersion);
-  CHECK(status.message().find("1.3") != std::string::npos);
+  CHECK(status.message().find("1.4") != std::string::npos);
   bad = good;
   bad[6] |= 128;
   sdvi::testing::FixPayloadChecksum(&bad);

@@ -49,8 +49,10 @@ inline constexpr int kMaxQuantizationBits = 24;
 // C2 = (R - 2G + B)/sqrt(6), each component its own attribute on the same step, predicted
 // by difference: the same squared error in R, G, B, fewer bytes on most photos (Draco codes
 // each attribute's residuals with its own entropy model, so the small opponent residuals no
-// longer share the luminance's). kSmallest: both, the smaller file (kRgb on ties; grey
-// images always kRgb).
+// longer share the luminance's). kSmallest: both, and decorrelated with neighbour-mean
+// prediction (L, C1, C2 on their grids, each predicted by the rounded mean of its neighbours
+// decoded before it, payload 1.3) when the mesh travels without vertex ids: the smallest file
+// (kRgb on ties; grey images always kRgb).
 enum class ColorCoding { kRgb, kDecorrelated, kSmallest };
 
 struct CompressOptions {
@@ -63,6 +65,8 @@ struct CompressOptions {
   // With the feature layer: code it before the crease edges, its polylines along mesh edges
   // (payload 1.2, spec/FORMAT.md 8.5); false writes payload 1.1.
   bool features_first = true;
+  // With kSmallest: also try neighbour-mean colours (payload 1.3, spec/FORMAT.md 8.2).
+  bool neighbour_mean = true;
   // Repeat the payload header's settings as container params (spec/FORMAT.md 8): what v1.0
   // writers did; redundant with the header and ~220 bytes a file, so off by default.
   bool container_params = false;
@@ -162,6 +166,7 @@ struct DracoPayloadInfo {
   bool has_feature_layer = false;
   bool grey = false;  // every vertex has R = G = B: one colour component coded
   bool decorrelated = false;  // colours coded as L, C1, C2 (ColorCoding::kDecorrelated)
+  bool neighbour_mean = false;  // ... predicted by the decoded neighbours' mean (payload 1.3)
 };
 StatusOr<DracoPayloadInfo> InspectDracoPayload(std::span<const uint8_t> payload,
                                                const std::string& source_name);

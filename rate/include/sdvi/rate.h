@@ -49,6 +49,7 @@ struct RateOptions {
   // whichever file is smaller (spec/RATE.md 5).
   ColorCoding color_coding = ColorCoding::kSmallest;
   bool features_first = true;  // the feature layer first (payload 1.2; false: 1.1), sdvi/codec.h
+  bool neighbour_mean = true;  // kSmallest also tries neighbour-mean colours (payload 1.3), sdvi/codec.h
   int threads = 1;
 };
 
