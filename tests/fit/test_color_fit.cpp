@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "grid_triangles.h"
@@ -55,6 +56,18 @@ void PaintPseudoRandom(sdvi::Image& image) {
   }
 }
 
+// The image rendered at its own size at level `levels`, as a colour fit's target.
+sdvi::Raster RenderedTarget(const sdvi::Image& image, int levels, bool antialias = true) {
+  sdvi::RenderOptions render;
+  render.viewport = sdvi::Viewport::Identity(int(image.width), int(image.height));
+  render.levels = levels;
+  render.antialias = antialias;
+  auto target = sdvi::Render(image, render);
+  INFO(target.status().ToString());
+  REQUIRE(target.ok());
+  return std::move(*target);
+}
+
 sdvi::Raster ConstantRaster(int width, int height, float r, float g, float b) {
   sdvi::Raster raster(width, height, 3);
   for (int y = 0; y < height; ++y) {
@@ -82,18 +95,13 @@ double MaxColorDifference(const sdvi::Image& a, const sdvi::Image& b) {
 TEST_CASE("colour fit reproduces the colours of a rendered image on the same mesh", "[color_fit]") {
   sdvi::Image truth = GridImage(64, 64, 8, /*crease=*/true);
   PaintPseudoRandom(truth);
-  sdvi::RenderOptions render;
-  render.viewport = sdvi::Viewport::Identity(64, 64);
-  render.levels = 2;
-  render.antialias = false;
-  auto target = sdvi::Render(truth, render);
-  REQUIRE(target.ok());
+  const sdvi::Raster target = RenderedTarget(truth, 2, /*antialias=*/false);
 
   sdvi::Image fitted = truth;
   for (sdvi::Vertex& v : fitted.vertices) v.r = v.g = v.b = 0;
   sdvi::ColorFitOptions options;
   options.regularization = 1e-9;
-  auto fit = sdvi::FitColors(fitted, *target, nullptr, options);
+  auto fit = sdvi::FitColors(fitted, target, nullptr, options);
   REQUIRE(fit.ok());
   CHECK(fit->domain_pixels == 64u * 64u);
   CHECK(MaxColorDifference(fitted, truth) < 2e-3);
@@ -169,17 +177,13 @@ TEST_CASE("vertices no pixel sees get finite regularised colours", "[color_fit]"
 TEST_CASE("colour fit does not depend on the thread count", "[color_fit]") {
   sdvi::Image truth = GridImage(96, 80, 12, /*crease=*/true);
   PaintPseudoRandom(truth);
-  sdvi::RenderOptions render;
-  render.viewport = sdvi::Viewport::Identity(96, 80);
-  render.levels = 3;
-  auto target = sdvi::Render(truth, render);
-  REQUIRE(target.ok());
+  const sdvi::Raster target = RenderedTarget(truth, 3);
   sdvi::Image one = truth, three = truth;
   sdvi::ColorFitOptions options;
   options.threads = 1;
-  REQUIRE(sdvi::FitColors(one, *target, nullptr, options).ok());
+  REQUIRE(sdvi::FitColors(one, target, nullptr, options).ok());
   options.threads = 3;
-  REQUIRE(sdvi::FitColors(three, *target, nullptr, options).ok());
+  REQUIRE(sdvi::FitColors(three, target, nullptr, options).ok());
   CHECK(one == three);
 }
 
@@ -188,21 +192,17 @@ TEST_CASE("colour fit with buffers from an earlier fit gives the same result", "
   // the result must be that of a fit without buffers, field by field.
   sdvi::Image truth = GridImage(96, 80, 12, /*crease=*/true);
   PaintPseudoRandom(truth);
-  sdvi::RenderOptions render;
-  render.viewport = sdvi::Viewport::Identity(96, 80);
-  render.levels = 3;
-  auto target = sdvi::Render(truth, render);
-  REQUIRE(target.ok());
+  const sdvi::Raster target = RenderedTarget(truth, 3);
   sdvi::ColorFitOptions options;
   sdvi::ColorFitBuffers buffers;
   sdvi::Image coarse = GridImage(96, 80, 3, /*crease=*/false);
-  auto first = sdvi::FitColors(coarse, *target, nullptr, options, &buffers);
+  auto first = sdvi::FitColors(coarse, target, nullptr, options, &buffers);
   REQUIRE(first.ok());
   buffers.coverage = std::move(first->coverage.samples);
   for (sdvi::PixelSample& s : buffers.coverage) s.w0 = s.w1 = s.w2 = 7.f;  // stale contents
   sdvi::Image plain = truth, reused = truth;
-  auto a = sdvi::FitColors(plain, *target, nullptr, options);
-  auto b = sdvi::FitColors(reused, *target, nullptr, options, &buffers);
+  auto a = sdvi::FitColors(plain, target, nullptr, options);
+  auto b = sdvi::FitColors(reused, target, nullptr, options, &buffers);
   REQUIRE(a.ok());
   REQUIRE(b.ok());
   CHECK(plain == reused);
