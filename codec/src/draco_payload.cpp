@@ -90,14 +90,17 @@ std::vector<std::vector<uint32_t>> EarlierNeighbours(size_t points, const std::v
 
 // The prediction of point p's component k: the mean of q over its earlier neighbours rounded
 // half up (floor((2 sum + c) / (2 c)) for c of them); without any, q of point p - 1; for point 0, 0.
+// The sum is taken in 128 bits: a decoded q is at most kMaxGridIndex = 2^40 in size, and a
+// hostile mesh can give one point millions of neighbours, so 64 bits could overflow. The mean
+// itself lies within the neighbours' range, so it fits 64 bits.
 int64_t MeanPrediction(const std::vector<uint32_t>& earlier, const std::vector<std::array<int64_t, 3>>& q, size_t p,
                        int k) {
   if (earlier.empty()) return p > 0 ? q[p - 1][k] : 0;
-  int64_t sum = 0;
+  __int128 sum = 0;
   for (uint32_t j : earlier) sum += q[j][k];
-  const int64_t c = static_cast<int64_t>(earlier.size());
-  const int64_t a = 2 * sum + c, b = 2 * c;
-  return a >= 0 ? a / b : -((-a + b - 1) / b);
+  const __int128 c = static_cast<__int128>(earlier.size());
+  const __int128 a = 2 * sum + c, b = 2 * c;
+  return static_cast<int64_t>(a >= 0 ? a / b : -((-a + b - 1) / b));
 }
 
 // How the colour attributes of a Draco mesh are laid out.
@@ -287,7 +290,12 @@ StatusOr<DecodedMesh> DecodeDracoMesh(std::span<const uint8_t> bytes, const std:
           return Status(StatusCode::kCorrupt, what + ": point " + std::to_string(p) + "'s colour lies off its grid");
       }
       float lcc[3];
-      for (int k = 0; k < 3; ++k) lcc[k] = static_cast<float>(mean_origin[k] + double(q[p][k]) * mean_step);
+      for (int k = 0; k < 3; ++k) {
+        const double value = mean_origin[k] + double(q[p][k]) * mean_step;
+        if (!(std::abs(value) <= std::numeric_limits<float>::max()))  // a float cannot hold it
+          return Status(StatusCode::kCorrupt, what + ": point " + std::to_string(p) + "'s colour lies off its grid");
+        lcc[k] = static_cast<float>(value);
+      }
       const std::array<float, 3> back = FromDecorrelated(lcc[0], lcc[1], lcc[2]);
       out.points[p].r = back[0];
       out.points[p].g = back[1];
