@@ -147,10 +147,12 @@ uint64_t DecodeCount(RangeDecoder& rc, FeatureModels& m) {
   return x - 1;
 }
 
-// Crease neighbours of every vertex, ascending.
-std::vector<std::vector<uint32_t>> CreaseNeighbours(uint32_t vertex_count, const std::vector<Edge>& creases) {
+// Neighbours of every vertex along the given edges (crease edges or mesh edges: anything
+// with endpoints a and b), ascending.
+template <typename EdgeT>
+std::vector<std::vector<uint32_t>> Neighbours(uint32_t vertex_count, const std::vector<EdgeT>& edges) {
   std::vector<std::vector<uint32_t>> out(vertex_count);
-  for (const Edge& e : creases) {
+  for (const EdgeT& e : edges) {
     out[e.a].push_back(e.b);
     out[e.b].push_back(e.a);
   }
@@ -162,18 +164,6 @@ std::vector<uint32_t> Candidates(const std::vector<uint32_t>& neighbours, int64_
   std::vector<uint32_t> out;
   for (uint32_t n : neighbours)
     if (int64_t{n} != previous) out.push_back(n);
-  return out;
-}
-
-
-// Neighbours of every vertex along the mesh edges, ascending.
-std::vector<std::vector<uint32_t>> MeshNeighbours(uint32_t vertex_count, const std::vector<MeshEdge>& edges) {
-  std::vector<std::vector<uint32_t>> out(vertex_count);
-  for (const MeshEdge& e : edges) {
-    out[e.a].push_back(e.b);
-    out[e.b].push_back(e.a);
-  }
-  for (auto& n : out) std::sort(n.begin(), n.end());
   return out;
 }
 
@@ -508,7 +498,7 @@ std::vector<uint8_t> EncodeTags(uint32_t vertex_count, const std::vector<MeshEdg
   if (feature_bytes) *feature_bytes = 0;
   std::vector<Edge> segments;
   if (features_first) {
-    EncodeFeaturesFirst(rc, m, vertex_count, MeshNeighbours(vertex_count, edges), tags, positions);
+    EncodeFeaturesFirst(rc, m, vertex_count, Neighbours(vertex_count, edges), tags, positions);
     if (feature_bytes) *feature_bytes = rc.bytes_so_far();
     segments = PolylineSegments(tags.polylines);
   }
@@ -533,7 +523,7 @@ std::vector<uint8_t> EncodeTags(uint32_t vertex_count, const std::vector<MeshEdg
     rc.Encode(corner_models[CornerContext(v, degree)], is_corner[v] != 0);
 
   if (tags.has_feature_layer && !features_first) {
-    const auto neighbours = CreaseNeighbours(vertex_count, tags.crease_edges);
+    const auto neighbours = Neighbours(vertex_count, tags.crease_edges);
     const int vertex_bits = IndexBits(vertex_count);
     EncodeCount(rc, m, static_cast<uint32_t>(tags.polylines.size()));
     UnusedCreaseVertices unused(neighbours);
@@ -586,7 +576,7 @@ Status DecodeTags(std::span<const uint8_t> bytes, uint32_t vertex_count,
     if (positions.size() != vertex_count)
       return Status(StatusCode::kInternal, what + ": the positions of the vertices are missing");
     SDVI_RETURN_IF_ERROR(DecodeFeaturesFirst(rc, m, vertex_count, max_polylines, max_polyline_vertices,
-                                             MeshNeighbours(vertex_count, edges), positions, what, &out));
+                                             Neighbours(vertex_count, edges), positions, what, &out));
     segments = PolylineSegments(out.polylines);
   }
   std::array<BitModel, kEdgeContexts + kSegmentContexts> edge_models{};
@@ -620,7 +610,7 @@ Status DecodeTags(std::span<const uint8_t> bytes, uint32_t vertex_count,
                       std::to_string(expected_corners));
 
   if (has_feature_layer && !features_first) {
-    const auto neighbours = CreaseNeighbours(vertex_count, out.crease_edges);
+    const auto neighbours = Neighbours(vertex_count, out.crease_edges);
     const int vertex_bits = IndexBits(vertex_count);
     const uint64_t count = DecodeCount(rc, m);
     if (count > max_polylines || rc.overrun())

@@ -19,6 +19,7 @@ using sdvi::ColorCoding;
 using sdvi::CompressOptions;
 using sdvi::Image;
 using sdvi::StatusCode;
+using sdvi::testing::MustEncode;
 
 namespace {
 
@@ -48,14 +49,6 @@ sdvi::DracoPayloadInfo MustInspect(const std::vector<uint8_t>& payload) {
   INFO(info.status().ToString());
   REQUIRE(info.ok());
   return *info;
-}
-
-std::vector<uint8_t> MustEncode(const Image& image, const CompressOptions& options,
-                                std::vector<uint32_t>* new_index = nullptr) {
-  auto payload = sdvi::EncodeDracoPayload(image, options, new_index);
-  INFO(payload.status().ToString());
-  REQUIRE(payload.ok());
-  return std::move(payload).value();
 }
 
 // The forward transform of spec/FORMAT.md 8.2, computed independently (long double).

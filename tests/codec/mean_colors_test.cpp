@@ -15,6 +15,7 @@ using sdvi::ColorCoding;
 using sdvi::CompressOptions;
 using sdvi::Image;
 using sdvi::StatusCode;
+using sdvi::testing::MustEncode;
 
 namespace {
 
@@ -31,13 +32,6 @@ Image SmoothPhotoImage(uint32_t seed) {
     v.b = y - 25 + tint(rng);
   }
   return image;
-}
-
-std::vector<uint8_t> MustEncode(const Image& image, const CompressOptions& options) {
-  auto payload = sdvi::EncodeDracoPayload(image, options);
-  INFO(payload.status().ToString());
-  REQUIRE(payload.ok());
-  return std::move(payload).value();
 }
 
 }  // namespace

@@ -84,6 +84,14 @@ void FixPayloadChecksum(std::vector<uint8_t>* payload) {
   for (int i = 0; i < 4; ++i) (*payload)[36 + i] = static_cast<uint8_t>(crc >> (8 * i));
 }
 
+std::vector<uint8_t> MustEncode(const Image& image, const CompressOptions& options,
+                                std::vector<uint32_t>* new_index) {
+  auto payload = EncodeDracoPayload(image, options, new_index);
+  INFO(payload.status().ToString());
+  REQUIRE(payload.ok());
+  return std::move(payload).value();
+}
+
 Image MustDecode(const std::vector<uint8_t>& payload) {
   Image image;
   const Status status = DecodeDracoPayload(payload, "test.sdvi", &image);

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "sdvi/codec.h"
 #include "sdvi/image.h"
 
 namespace sdvi::testing {
@@ -21,6 +22,11 @@ Image SyntheticGridImage(uint32_t width, uint32_t height, uint32_t cols, uint32_
 // Rewrites the CRC-32 field of a Draco payload so that damaged bytes behind it reach
 // the Draco decoder and the tag stream (for robustness tests).
 void FixPayloadChecksum(std::vector<uint8_t>* payload);
+
+// The Draco payload of image; fails the current test (Catch2 REQUIRE, with the encoder's
+// message) when it does not encode.
+std::vector<uint8_t> MustEncode(const Image& image, const CompressOptions& options,
+                                std::vector<uint32_t>* new_index = nullptr);
 
 // The image a Draco payload decodes to; fails the current test (Catch2 REQUIRE, with the
 // decoder's message) when it does not decode.

@@ -502,15 +502,15 @@ StatusOr<std::vector<bool>> ColorPairs(Image& image, const std::vector<FittedCur
       if (right.size() > n || left.size() != right.size()) continue;
       // The control point of each pair vertex: the first at start, each next one the
       // nearest following point that matches (skipping dropped ones), within one lap.
+      auto in_lap = [&](size_t j) { return j < start + n && (j < n || fc.feature.closed); };
+      auto matches = [&](size_t i, size_t j) { return Dist(mid(i), fc.feature.points[j % n]) < kTolerance; };
       std::vector<size_t> at(right.size());
       bool ok = true;
       size_t j = start;
       for (size_t i = 0; i < right.size() && ok; ++i) {
-        if (i > 0) ++j;
-        while (j < start + n && (j < n || fc.feature.closed) && i > 0 &&
-               !(Dist(mid(i), fc.feature.points[j % n]) < kTolerance))
-          ++j;
-        ok = j < start + n && (j < n || fc.feature.closed) && Dist(mid(i), fc.feature.points[j % n]) < kTolerance;
+        if (i > 0)
+          for (++j; in_lap(j) && !matches(i, j);) ++j;
+        ok = in_lap(j) && matches(i, j);
         at[i] = j % n;
       }
       if (!ok) continue;

@@ -210,11 +210,6 @@ bool InDomain(const Raster& target, const Raster* mask, int x, int y) {
 }
 
 StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* mask,
-                             const ColorFitOptions& options) {
-  return FitColors(image, target, mask, options, nullptr);
-}
-
-StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* mask,
                              const ColorFitOptions& options, ColorFitBuffers* buffers) {
   const int width = target.width, height = target.height;
   if (target.empty() || target.channels < 1 || target.channels > 4 ||

@@ -63,17 +63,6 @@ struct ColorFit {
   double seconds_solve = 0;     // factorisation and solve
 };
 
-// Fits the colours of image.vertices (positions unchanged; with options.warm_start their
-// colours on entry are the solver's start, which moves the result within its tolerance) to
-// target, a raster of the same size as image.width x image.height (grey, grey+alpha, RGB
-// or RGBA; grey counts as R = G = B). The domain is the pixels covered by the fine mesh
-// whose alpha (if any) is > 0.5 and, when a mask is given (same size), whose mask alpha is
-// > 0.5 (mask with alpha) or whose mask channel 0 is > 127.5 (mask without alpha, 0..255).
-// Errors: kInvalidArgument (size mismatch, bad options), the errors of BuildLimitSurface,
-// kInternal when the factorisation fails.
-StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* mask,
-                             const ColorFitOptions& options);
-
 // Storage that a caller fitting repeatedly (the vectorizer's rounds) hands from one
 // FitColors call to the next: the per-pixel coverage array is written into memory already
 // held instead of fresh pages that the kernel must zero first. Scratch: the contents do not
@@ -82,9 +71,17 @@ struct ColorFitBuffers {
   std::vector<PixelSample> coverage;  // taken by the next fit; give back a fit's coverage.samples
 };
 
-// FitColors taking the coverage storage from buffers (when non-null).
+// Fits the colours of image.vertices (positions unchanged; with options.warm_start their
+// colours on entry are the solver's start, which moves the result within its tolerance) to
+// target, a raster of the same size as image.width x image.height (grey, grey+alpha, RGB
+// or RGBA; grey counts as R = G = B). The domain is the pixels covered by the fine mesh
+// whose alpha (if any) is > 0.5 and, when a mask is given (same size), whose mask alpha is
+// > 0.5 (mask with alpha) or whose mask channel 0 is > 127.5 (mask without alpha, 0..255).
+// Errors: kInvalidArgument (size mismatch, bad options), the errors of BuildLimitSurface,
+// kInternal when the factorisation fails. With buffers (non-null), the coverage storage is
+// taken from them (see ColorFitBuffers).
 StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* mask,
-                             const ColorFitOptions& options, ColorFitBuffers* buffers);
+                             const ColorFitOptions& options, ColorFitBuffers* buffers = nullptr);
 
 // The RGBA reconstruction that the fit's surface draws at the identity viewport (alpha 1
 // on covered pixels, 0 elsewhere): what the least squares minimised the error of.
