@@ -151,3 +151,31 @@ TEST_CASE("CompareImages reports bad input with specific codes", "[metrics][erro
   REQUIRE(small.ok());
   CHECK(std::isfinite(small->mssim));
 }
+
+TEST_CASE("MSSIM is the same for any thread count", "[metrics]") {
+  // Tall enough for several row bands per thread count (bands of at least 16 rows), with
+  // an alpha hole so that masked pixels fall inside bands and on their edges; also an image
+  // smaller than the window (no crop).
+  for (const auto& [w, h] : {std::pair{37, 203}, std::pair{9, 7}}) {
+    Raster clean, noisy;
+    SyntheticPair(w, h, 3, clean, noisy);
+    Raster masked(w, h, 4);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        for (int c = 0; c < 3; ++c) masked.at(x, y, c) = noisy.at(x, y, c);
+        masked.at(x, y, 3) = (x - w / 2) * (x - w / 2) + (y - h / 3) * (y - h / 3) < w * h / 50 ? 0.f : 1.f;
+      }
+    for (const Raster* a : {&noisy, &masked}) {
+      auto one = CompareImages(*a, clean, 1);
+      REQUIRE(one.ok());
+      if (a == &noisy && w > 11) CHECK(one->mssim == Approx(DirectMssim(*a, clean)).epsilon(1e-9));
+      for (int threads : {2, 3, 5}) {
+        auto many = CompareImages(*a, clean, threads);
+        REQUIRE(many.ok());
+        INFO(w << "x" << h << ", " << threads << " threads");
+        CHECK(many->mssim == one->mssim);  // bit for bit
+        CHECK(many->psnr == one->psnr);
+      }
+    }
+  }
+}

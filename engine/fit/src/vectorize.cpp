@@ -395,7 +395,7 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
     }
     reference = &reference_with_domain;
   }
-  SDVI_ASSIGN_OR_RETURN(ImageMetrics metrics, CompareImages(result.reconstruction, *reference));
+  SDVI_ASSIGN_OR_RETURN(ImageMetrics metrics, CompareImages(result.reconstruction, *reference, options.threads));
   seconds.metrics += SecondsSince(start);
 
   report.vertices = uint32_t(mesh.vertices.size());

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "scan_convert.h"
 #include "sdvi/render.h"
 
 namespace sdvi {
@@ -32,60 +33,74 @@ inline double ColourAt(const Raster& r, size_t p, int c) {
 
 // Mean SSIM of one channel over the compared pixels (mask), at pixels >= kRadius from the
 // border when the image allows it. Rows are filtered horizontally into a ring of
-// 2*kRadius+1 rows of the six moments, then combined vertically.
+// 2*kRadius+1 rows of the six moments, then combined vertically. Bands of output rows go to
+// threads (each filters the rows its band needs) and store each pixel's SSIM; the sum is
+// then taken serially in row-major order, so it is the same for any thread count.
 struct SsimSum {
   double sum = 0;
   uint64_t count = 0;
 };
 SsimSum ChannelSsim(const std::vector<double>& x, const std::vector<double>& y,
-                    const std::vector<uint8_t>& mask, int w, int h) {
+                    const std::vector<uint8_t>& mask, int w, int h, int threads) {
   const auto g = GaussianWindow();
   constexpr int kWin = 2 * kRadius + 1;
   constexpr int kMoments = 6;  // m, m x, m y, m x^2, m y^2, m x y
-  std::vector<double> ring(size_t(kWin) * kMoments * w, 0.0);
   const bool crop = w >= kWin && h >= kWin;
-  SsimSum out;
-  std::vector<double> acc(size_t(kMoments) * w);
-  for (int yi = 0; yi < h + kRadius; ++yi) {
-    if (yi < h) {
-      double* row = &ring[size_t(yi % kWin) * kMoments * w];
-      for (int xo = 0; xo < w; ++xo) {
-        double s[kMoments] = {0, 0, 0, 0, 0, 0};
-        for (int k = -kRadius; k <= kRadius; ++k) {
-          const int xs = xo + k;
-          if (xs < 0 || xs >= w) continue;
-          const size_t p = size_t(yi) * w + xs;
-          if (!mask[p]) continue;
-          const double gw = g[k + kRadius], a = x[p], b = y[p];
-          s[0] += gw;
-          s[1] += gw * a;
-          s[2] += gw * b;
-          s[3] += gw * a * a;
-          s[4] += gw * b * b;
-          s[5] += gw * a * b;
+  const int x0 = crop ? kRadius : 0, x1 = crop ? w - kRadius : w;
+  auto counted_row = [&](int yo) { return !crop || (yo >= kRadius && yo < h - kRadius); };
+  std::vector<double> terms(size_t(w) * h);
+  render_internal::ForEachRowBand(h, threads, [&](int, int r0, int r1) {
+    std::vector<double> ring(size_t(kWin) * kMoments * w, 0.0);
+    std::vector<double> acc(size_t(kMoments) * w);
+    for (int yi = std::max(0, r0 - kRadius); yi < r1 + kRadius; ++yi) {
+      if (yi < h) {
+        double* row = &ring[size_t(yi % kWin) * kMoments * w];
+        for (int xo = 0; xo < w; ++xo) {
+          double s[kMoments] = {0, 0, 0, 0, 0, 0};
+          for (int k = -kRadius; k <= kRadius; ++k) {
+            const int xs = xo + k;
+            if (xs < 0 || xs >= w) continue;
+            const size_t p = size_t(yi) * w + xs;
+            if (!mask[p]) continue;
+            const double gw = g[k + kRadius], a = x[p], b = y[p];
+            s[0] += gw;
+            s[1] += gw * a;
+            s[2] += gw * b;
+            s[3] += gw * a * a;
+            s[4] += gw * b * b;
+            s[5] += gw * a * b;
+          }
+          for (int m = 0; m < kMoments; ++m) row[size_t(m) * w + xo] = s[m];
         }
-        for (int m = 0; m < kMoments; ++m) row[size_t(m) * w + xo] = s[m];
+      }
+      const int yo = yi - kRadius;
+      if (yo < r0 || !counted_row(yo)) continue;
+      std::fill(acc.begin(), acc.end(), 0.0);
+      for (int k = -kRadius; k <= kRadius; ++k) {
+        const int ys = yo + k;
+        if (ys < 0 || ys >= h) continue;
+        const double gw = g[k + kRadius];
+        const double* row = &ring[size_t(ys % kWin) * kMoments * w];
+        for (size_t q = 0; q < acc.size(); ++q) acc[q] += gw * row[q];
+      }
+      for (int xo = x0; xo < x1; ++xo) {
+        if (!mask[size_t(yo) * w + xo]) continue;
+        const double wsum = acc[xo];
+        const double mx = acc[size_t(1) * w + xo] / wsum, my = acc[size_t(2) * w + xo] / wsum;
+        const double vx = acc[size_t(3) * w + xo] / wsum - mx * mx;
+        const double vy = acc[size_t(4) * w + xo] / wsum - my * my;
+        const double cxy = acc[size_t(5) * w + xo] / wsum - mx * my;
+        terms[size_t(yo) * w + xo] =
+            ((2 * mx * my + kC1) * (2 * cxy + kC2)) / ((mx * mx + my * my + kC1) * (vx + vy + kC2));
       }
     }
-    const int yo = yi - kRadius;
-    if (yo < 0) continue;
-    if (crop && (yo < kRadius || yo >= h - kRadius)) continue;
-    std::fill(acc.begin(), acc.end(), 0.0);
-    for (int k = -kRadius; k <= kRadius; ++k) {
-      const int ys = yo + k;
-      if (ys < 0 || ys >= h) continue;
-      const double gw = g[k + kRadius];
-      const double* row = &ring[size_t(ys % kWin) * kMoments * w];
-      for (size_t q = 0; q < acc.size(); ++q) acc[q] += gw * row[q];
-    }
-    for (int xo = crop ? kRadius : 0; xo < (crop ? w - kRadius : w); ++xo) {
+  });
+  SsimSum out;
+  for (int yo = 0; yo < h; ++yo) {
+    if (!counted_row(yo)) continue;
+    for (int xo = x0; xo < x1; ++xo) {
       if (!mask[size_t(yo) * w + xo]) continue;
-      const double wsum = acc[xo];
-      const double mx = acc[size_t(1) * w + xo] / wsum, my = acc[size_t(2) * w + xo] / wsum;
-      const double vx = acc[size_t(3) * w + xo] / wsum - mx * mx;
-      const double vy = acc[size_t(4) * w + xo] / wsum - my * my;
-      const double cxy = acc[size_t(5) * w + xo] / wsum - mx * my;
-      out.sum += ((2 * mx * my + kC1) * (2 * cxy + kC2)) / ((mx * mx + my * my + kC1) * (vx + vy + kC2));
+      out.sum += terms[size_t(yo) * w + xo];
       ++out.count;
     }
   }
@@ -94,7 +109,7 @@ SsimSum ChannelSsim(const std::vector<double>& x, const std::vector<double>& y,
 
 }  // namespace
 
-StatusOr<ImageMetrics> CompareImages(const Raster& reconstruction, const Raster& reference) {
+StatusOr<ImageMetrics> CompareImages(const Raster& reconstruction, const Raster& reference, int threads) {
   const Raster& a = reconstruction;
   const Raster& b = reference;
   if (a.empty() || b.empty())
@@ -140,7 +155,7 @@ StatusOr<ImageMetrics> CompareImages(const Raster& reconstruction, const Raster&
       sq += d * d;
       abs_sum += std::abs(d);
     }
-    const SsimSum s = ChannelSsim(xa, xb, mask, w, h);
+    const SsimSum s = ChannelSsim(xa, xb, mask, w, h, threads);
     ssim_sum += s.count ? s.sum / double(s.count) : 0.0;
     ssim_count += s.count;
   }

@@ -146,7 +146,9 @@ struct ImageMetrics {
 // pixels when the image is smaller than 11 px). C1 = (0.01 * 255)^2, C2 = (0.03 * 255)^2.
 // psnr is +infinity when the images are equal. Errors: kInvalidArgument (sizes differ),
 // kEmptyInput (empty image or no pixel in both domains).
-StatusOr<ImageMetrics> CompareImages(const Raster& reconstruction, const Raster& reference);
+// threads: rows of the MSSIM on that many threads (0: the hardware's); the result is the
+// same for any number.
+StatusOr<ImageMetrics> CompareImages(const Raster& reconstruction, const Raster& reference, int threads = 1);
 
 // Rounds colours to integers in 0..255 and alpha to multiples of 1/255, as an 8-bit PNG
 // stores them: a render measured after this has the PSNR of its PNG (spec/RATE.md 1).
