@@ -150,6 +150,7 @@ int Info(const InfoArgs& args) {
                              : draco->neighbour_mean ? "decorrelated, neighbour mean"
                              : draco->decorrelated   ? "decorrelated"
                                                      : "rgb"},
+                  {"positions", draco->stream_positions ? "tag stream, neighbour mean" : "draco"},
                   {"speed", draco->speed},
                   {"draco_bytes", draco->draco_bytes},
                   {"tag_bytes", draco->tag_bytes}};
@@ -193,9 +194,10 @@ int Info(const InfoArgs& args) {
     const auto& d = j["draco"];
     std::printf("crease edges       %llu\n", j["crease_edges"].get<unsigned long long>());
     std::printf("corners            %llu explicit\n", j["corners_explicit"].get<unsigned long long>());
-    std::printf("Draco payload      version %s, %d position bits, %d colour bits (%s), speed %d "
+    std::printf("Draco payload      version %s, %d position bits%s, %d colour bits (%s), speed %d "
                 "(%llu Draco + %llu tag bytes)\n",
                 d["payload_version"].get<std::string>().c_str(), d["position_bits"].get<int>(),
+                d.value("positions", "draco") == "draco" ? "" : " (in the tag stream, neighbour mean)",
                 d["color_bits"].get<int>(), d["colors"].get<std::string>().c_str(), d["speed"].get<int>(),
                 d["draco_bytes"].get<unsigned long long>(), d["tag_bytes"].get<unsigned long long>());
   }

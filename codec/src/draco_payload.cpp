@@ -19,6 +19,7 @@
 
 #include "range_coder.h"
 #include "sdvi/codec.h"
+#include "position_stream.h"
 #include "tag_stream.h"
 
 namespace sdvi {
@@ -29,9 +30,10 @@ using codec_internal::MeshEdge;
 // Header layout (little-endian), 40 bytes.
 constexpr char kMagic[4] = {'S', 'D', 'R', 'C'};
 constexpr uint8_t kVersionMajor = 1;
-// Written: the lowest of 1.1, 1.2 and 1.3 that allows the flags used (1.1: flag bits 3, 4
-// and 5 allowed; 1.2: bit 6 too; 1.3: bit 7 too); read: 1.0 .. 1.3 (spec/FORMAT.md 8.1).
-constexpr uint8_t kVersionMinor = 3;
+// Written: the lowest of 1.1 to 1.4 that allows the flags used (1.1: flag bits 3, 4 and 5
+// allowed; 1.2: bit 6 too; 1.3: bit 7 too; 1.4: the second flag byte's bit 0); read: 1.0 ..
+// 1.4 (spec/FORMAT.md 8.1).
+constexpr uint8_t kVersionMinor = 4;
 constexpr size_t kHeaderSize = 40;
 constexpr size_t kCrcOffset = 36;
 constexpr uint8_t kFlagVertexIds = 1;     // the Draco mesh has the vertex id attribute
@@ -42,6 +44,8 @@ constexpr uint8_t kFlagCompactPairs = 16;  // the feature layer's pairs coded co
 constexpr uint8_t kFlagRankedStarts = 32;  // the feature layer's polyline starts ranked
 constexpr uint8_t kFlagFeaturesFirst = 64;  // the feature layer first, polylines along mesh edges
 constexpr uint8_t kFlagMeanColors = 128;    // decorrelated colours predicted by the decoded neighbours' mean
+// Header byte 10, the second flag byte (payload 1.4; reserved and 0 before).
+constexpr uint8_t kFlag2Positions = 1;  // positions in the tag stream, not in the Draco mesh (8.7)
 constexpr uint8_t kKnownFlags = kFlagVertexIds | kFlagFeatureLayer | kFlagGrey | kFlagDecorrelated |
                                 kFlagCompactPairs | kFlagRankedStarts | kFlagFeaturesFirst | kFlagMeanColors;
 
@@ -116,7 +120,7 @@ uint32_t GetU32(std::span<const uint8_t> in, size_t at) {
 }
 
 struct Header {
-  uint8_t major = 0, minor = 0, flags = 0;
+  uint8_t major = 0, minor = 0, flags = 0, flags2 = 0;
   uint8_t position_bits = 0, color_bits = 0, speed = 0;
   uint32_t vertex_count = 0, triangle_count = 0, crease_edge_count = 0, corner_count = 0;
   uint32_t draco_size = 0, tags_size = 0, crc = 0;
@@ -142,6 +146,7 @@ StatusOr<Header> ParseHeader(std::span<const uint8_t> payload, const std::string
   h.position_bits = payload[7];
   h.color_bits = payload[8];
   h.speed = payload[9];
+  if (h.minor >= 4) h.flags2 = payload[10];  // before 1.4 reserved: never read
   h.vertex_count = GetU32(payload, 12);
   h.triangle_count = GetU32(payload, 16);
   h.crease_edge_count = GetU32(payload, 20);
@@ -152,17 +157,19 @@ StatusOr<Header> ParseHeader(std::span<const uint8_t> payload, const std::string
   if (h.major != kVersionMajor || h.minor > kVersionMinor)
     return Status(h.major < kVersionMajor ? StatusCode::kCorrupt : StatusCode::kUnsupportedVersion,
                   what + " has version " + std::to_string(h.major) + "." +
-                      std::to_string(h.minor) + "; this build reads versions 1.0 to 1.3");
+                      std::to_string(h.minor) + "; this build reads versions 1.0 to 1.4");
   constexpr uint8_t kFlags11 = kFlagDecorrelated | kFlagCompactPairs | kFlagRankedStarts;
   constexpr uint8_t kFlagsUnderFirst = kFlagFeatureLayer | kFlagCompactPairs | kFlagRankedStarts;
   if ((h.flags & ~kKnownFlags) || (h.minor == 0 && (h.flags & kFlags11)) ||
       (h.minor < 2 && (h.flags & kFlagFeaturesFirst)) || (h.minor < 3 && (h.flags & kFlagMeanColors)) ||
       ((h.flags & kFlagMeanColors) && (h.flags & (kFlagDecorrelated | kFlagVertexIds)) != kFlagDecorrelated) ||
       ((h.flags & (kFlagCompactPairs | kFlagRankedStarts)) && !(h.flags & kFlagFeatureLayer)) ||
-      ((h.flags & kFlagFeaturesFirst) && (h.flags & kFlagsUnderFirst) != kFlagsUnderFirst))
+      ((h.flags & kFlagFeaturesFirst) && (h.flags & kFlagsUnderFirst) != kFlagsUnderFirst) ||
+      (h.minor >= 4 && (payload[11] != 0 || (h.flags2 & ~kFlag2Positions))) ||
+      ((h.flags2 & kFlag2Positions) && (h.flags & kFlagVertexIds)))
     return Status(StatusCode::kCorrupt, what + " (version " + std::to_string(h.major) + "." +
                                             std::to_string(h.minor) + ") has unknown flags " +
-                                            std::to_string(h.flags));
+                                            std::to_string(h.flags) + ", " + std::to_string(h.flags2));
   if ((h.flags & kFlagGrey) && (h.flags & kFlagDecorrelated))
     return Status(StatusCode::kCorrupt, what + " flags both grey and decorrelated colours");
 
@@ -194,7 +201,7 @@ bool ReadAttribute(const draco::PointAttribute* attribute, uint32_t point, T* ou
 }
 
 StatusOr<DecodedMesh> DecodeDracoMesh(std::span<const uint8_t> bytes, const std::string& source,
-                                      bool decorrelated, bool mean = false) {
+                                      bool decorrelated, bool mean = false, bool positions_outside = false) {
   const std::string what = source + ": Draco mesh";
   draco::DecoderBuffer buffer;
   buffer.Init(reinterpret_cast<const char*>(bytes.data()), bytes.size());
@@ -251,7 +258,7 @@ StatusOr<DecodedMesh> DecodeDracoMesh(std::span<const uint8_t> bytes, const std:
   out.points.resize(n);
   if (id) out.ids.resize(n);
   for (uint32_t p = 0; p < n; ++p) {
-    float xy[2], rgb[3];
+    float xy[2] = {0.f, 0.f}, rgb[3];
     bool color_ok = ReadAttribute(color, p, rgb);  // 1 or 3 components
     if (out.grey) rgb[1] = rgb[2] = rgb[0];
     if (mean) {
@@ -267,6 +274,8 @@ StatusOr<DecodedMesh> DecodeDracoMesh(std::span<const uint8_t> bytes, const std:
         (id && !ReadAttribute(id, p, &out.ids[p])))
       return Status(StatusCode::kCorrupt, what + ": point " + std::to_string(p) +
                                               " has no attribute value");
+    if (positions_outside && (xy[0] != 0.f || xy[1] != 0.f))  // the positions follow in the tag stream
+      return Status(StatusCode::kCorrupt, what + ": point " + std::to_string(p) + "'s POSITION is not (0, 0)");
     out.points[p] = {xy[0], xy[1], rgb[0], rgb[1], rgb[2]};
   }
   out.faces.resize(mesh.num_faces());
@@ -310,7 +319,7 @@ StatusOr<DecodedMesh> DecodeDracoMesh(std::span<const uint8_t> bytes, const std:
 // MeanPrediction in the decoded order, where vertex i is point decoded_index[i]), the grid in
 // the metadata. Fails (kInvalidArgument) when a residual does not fit int32.
 StatusOr<std::unique_ptr<draco::Mesh>> BuildMeanColorMesh(const Image& image, const std::vector<uint32_t>& decoded_index,
-                                                          double step) {
+                                                          double step, bool index_positions = false) {
   const uint32_t n = static_cast<uint32_t>(image.vertices.size());
   std::vector<std::array<float, 3>> lcc(n);
   std::array<double, 3> origin;
@@ -345,8 +354,9 @@ StatusOr<std::unique_ptr<draco::Mesh>> BuildMeanColorMesh(const Image& image, co
   for (uint32_t i = 0; i < n; ++i) {
     const Vertex& v = image.vertices[i];
     const float xy[2] = {v.x, v.y};
-    mesh->attribute(position_id)->SetAttributeValue(draco::AttributeValueIndex(i), xy);
     const uint32_t p = decoded_index[i];
+    const float zero[2] = {0.f, 0.f};
+    mesh->attribute(position_id)->SetAttributeValue(draco::AttributeValueIndex(i), index_positions ? zero : xy);
     for (int k = 0; k < 3; ++k) {
       const int64_t r = q[p][k] - MeanPrediction(earlier[p], q, p, k);
       if (r < std::numeric_limits<int32_t>::min() || r > std::numeric_limits<int32_t>::max())
@@ -373,7 +383,10 @@ StatusOr<std::unique_ptr<draco::Mesh>> BuildMeanColorMesh(const Image& image, co
 StatusOr<std::vector<uint8_t>> EncodeMeanColorMesh(const draco::Mesh& mesh, int position_bits, int speed) {
   draco::ExpertEncoder encoder(mesh);
   for (int a = 0; a < mesh.num_attributes(); ++a) {
-    if (mesh.attribute(a)->attribute_type() == draco::GeometryAttribute::POSITION)
+    const draco::PointAttribute& attribute = *mesh.attribute(a);
+    if (attribute.attribute_type() == draco::GeometryAttribute::POSITION && attribute.data_type() == draco::DT_INT32)
+      encoder.SetAttributePredictionScheme(a, draco::PREDICTION_DIFFERENCE);  // the decoded index (payload 1.4)
+    else if (attribute.attribute_type() == draco::GeometryAttribute::POSITION)
       encoder.SetAttributeQuantization(a, position_bits);
     else
       encoder.SetAttributePredictionScheme(a, draco::PREDICTION_NONE);
@@ -388,7 +401,10 @@ StatusOr<std::vector<uint8_t>> EncodeMeanColorMesh(const draco::Mesh& mesh, int 
 }
 
 // The Draco mesh of image's control mesh, with or without the vertex id attribute.
-std::unique_ptr<draco::Mesh> BuildDracoMesh(const Image& image, bool with_ids, ColorLayout layout) {
+// With index_of (positions in the tag stream, payload 1.4) POSITION is one int32 per vertex:
+// its index in the decoded order, (*index_of)[i].
+std::unique_ptr<draco::Mesh> BuildDracoMesh(const Image& image, bool with_ids, ColorLayout layout,
+                                            const std::vector<uint32_t>* index_of = nullptr) {
   const bool grey = layout == ColorLayout::kGrey;
   const bool with_color = layout != ColorLayout::kNone;
   const bool decorrelated = layout == ColorLayout::kDecorrelated;
@@ -427,7 +443,8 @@ std::unique_ptr<draco::Mesh> BuildDracoMesh(const Image& image, bool with_ids, C
     const Vertex& v = image.vertices[i];
     const float xy[2] = {v.x, v.y};
     const float rgb[3] = {v.r, v.g, v.b};
-    mesh->attribute(position_id)->SetAttributeValue(draco::AttributeValueIndex(i), xy);
+    const float zero[2] = {0.f, 0.f};
+    mesh->attribute(position_id)->SetAttributeValue(draco::AttributeValueIndex(i), index_of ? zero : xy);
     if (decorrelated) {
       const std::array<float, 3> lcc = ToDecorrelated(v);
       mesh->attribute(color_id)->SetAttributeValue(draco::AttributeValueIndex(i), &lcc[0]);
@@ -450,7 +467,10 @@ std::unique_ptr<draco::Mesh> BuildDracoMesh(const Image& image, bool with_ids, C
 StatusOr<std::vector<uint8_t>> EncodeDracoMesh(const draco::Mesh& mesh, int method,
                                                int position_bits, int color_bits, int speed) {
   draco::Encoder encoder;
-  encoder.SetAttributeQuantization(draco::GeometryAttribute::POSITION, position_bits);
+  if (mesh.GetNamedAttribute(draco::GeometryAttribute::POSITION)->data_type() == draco::DT_INT32)
+    encoder.SetAttributePredictionScheme(draco::GeometryAttribute::POSITION, draco::PREDICTION_DIFFERENCE);
+  else
+    encoder.SetAttributeQuantization(draco::GeometryAttribute::POSITION, position_bits);
   encoder.SetAttributeQuantization(draco::GeometryAttribute::COLOR, color_bits);
   encoder.SetSpeedOptions(speed, speed);
   encoder.SetEncodingMethod(method);
@@ -471,7 +491,10 @@ StatusOr<std::vector<uint8_t>> EncodeDecorrelatedMesh(const draco::Mesh& mesh, i
   for (int a = 0; a < mesh.num_attributes(); ++a) {
     const draco::PointAttribute& attribute = *mesh.attribute(a);
     if (attribute.attribute_type() == draco::GeometryAttribute::POSITION) {
-      encoder.SetAttributeQuantization(a, position_bits);
+      if (attribute.data_type() == draco::DT_INT32)  // the decoded index (payload 1.4)
+        encoder.SetAttributePredictionScheme(a, draco::PREDICTION_DIFFERENCE);
+      else
+        encoder.SetAttributeQuantization(a, position_bits);
       continue;
     }
     if (attribute.data_type() != draco::DT_FLOAT32) continue;  // the vertex ids: lossless
@@ -907,6 +930,71 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
       return Status(StatusCode::kLimitExceeded, "out of memory while compressing the image");
     }
   }
+  // Positions in the tag stream (payload 1.4, kSmallest): the same Draco mesh without its
+  // POSITION attribute, decoded and checked to give the chosen mesh's points, faces and
+  // colours, and the positions' indices on Draco's grid, checked to give the chosen mesh's
+  // positions bit for bit; kept below when the payload is smaller.
+  std::vector<uint8_t> positionless;
+  codec_internal::PositionStream position_stream;
+  if (options.color_coding == ColorCoding::kSmallest && options.stream_positions && !chosen.with_ids &&
+      !chosen.renumbering.empty()) {
+    try {
+      const std::vector<uint32_t>& order = chosen.renumbering;
+      StatusOr<std::vector<uint8_t>> bytes = Status(StatusCode::kInternal, "no layout");
+      if (mean_colors) {
+        StatusOr<std::unique_ptr<draco::Mesh>> mesh = BuildMeanColorMesh(image, order, color_step, true);
+        if (mesh.ok()) bytes = EncodeMeanColorMesh(**mesh, 1, options.speed);
+      } else {
+        const ColorLayout layout = decorrelated ? ColorLayout::kDecorrelated : grey ? ColorLayout::kGrey : ColorLayout::kRgb;
+        auto mesh = BuildDracoMesh(image, false, layout, &order);
+        bytes = decorrelated ? EncodeDecorrelatedMesh(*mesh, draco::MESH_EDGEBREAKER_ENCODING, 1, color_step,
+                                                      options.speed)
+                             : EncodeDracoMesh(*mesh, draco::MESH_EDGEBREAKER_ENCODING, 1, color_bits, options.speed);
+      }
+      StatusOr<DecodedMesh> decoded = bytes.ok() ? DecodeDracoMesh(*bytes, "compressed image (self-check)",
+                                                                   decorrelated, mean_colors, true)
+                                                 : StatusOr<DecodedMesh>(bytes.status());
+      bool same = decoded.ok() && decoded->ids.empty() && decoded->points.size() == n &&
+                  decoded->faces.size() == image.triangles.size();
+      for (uint32_t p = 0; p < n && same; ++p) {
+        const Vertex& a = decoded->points[p];
+        const Vertex& b = chosen.decoded[p];
+        same = std::memcmp(&a.r, &b.r, 3 * sizeof(float)) == 0;
+      }
+      if (same) {
+        std::vector<Triangle> got(decoded->faces.size()), want(image.triangles.size());
+        for (size_t f = 0; f < got.size(); ++f)
+          for (int k = 0; k < 3; ++k) {
+            got[f].v[k] = decoded->faces[f][k];
+            want[f].v[k] = order[image.triangles[f].v[k]];
+          }
+        CanonicalizeTriangles(&got);
+        CanonicalizeTriangles(&want);
+        same = got == want;
+      }
+      const codec_internal::DracoPositionGrid grid(image, position_bits);
+      position_stream.min_x = grid.min(0);
+      position_stream.min_y = grid.min(1);
+      position_stream.range = grid.range();
+      position_stream.bits = position_bits;
+      position_stream.q.assign(n, {0, 0});
+      const int32_t top = static_cast<int32_t>((uint32_t{1} << position_bits) - 1);
+      for (uint32_t i = 0; i < n && same; ++i) {
+        const Vertex& v = image.vertices[i];
+        const uint32_t p = order[i];
+        const float c[2] = {v.x, v.y};
+        for (int k = 0; k < 2 && same; ++k) {
+          const int32_t q = grid.Quantize(c[k], k);
+          const float back = grid.Position(q, k);
+          same = q >= 0 && q <= top && std::memcmp(&back, k ? &chosen.decoded[p].y : &chosen.decoded[p].x, 4) == 0;
+          position_stream.q[p][k] = q;
+        }
+      }
+      if (same) positionless = std::move(bytes).value();
+    } catch (const std::bad_alloc&) {
+      return Status(StatusCode::kLimitExceeded, "out of memory while compressing the image");
+    }
+  }
   std::vector<uint8_t> draco_bytes = std::move(chosen.bytes);
   std::vector<uint32_t> renumbering = std::move(chosen.renumbering);
   const bool with_ids = chosen.with_ids;
@@ -934,13 +1022,23 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
   tag_set.pairs = std::move(renumbered.pairs);
   const bool features_first = options.feature_layer && options.features_first;
   tag_set.features_first = features_first;
-  const std::vector<uint8_t> tags = codec_internal::EncodeTags(
-      n, codec_internal::CollectMeshEdges(renumbered.triangles), tag_set, chosen.decoded);
+  const std::vector<MeshEdge> edges = codec_internal::CollectMeshEdges(renumbered.triangles);
+  std::vector<uint8_t> tags = codec_internal::EncodeTags(n, edges, tag_set, chosen.decoded);
+  bool stream_positions = false;
+  if (!positionless.empty()) {
+    tag_set.positions = &position_stream;
+    std::vector<uint8_t> tags_with = codec_internal::EncodeTags(n, edges, tag_set, chosen.decoded);
+    if (positionless.size() + tags_with.size() < draco_bytes.size() + tags.size()) {
+      draco_bytes = std::move(positionless);
+      tags = std::move(tags_with);
+      stream_positions = true;
+    }
+  }
 
   std::vector<uint8_t> payload(kHeaderSize + draco_bytes.size() + tags.size(), 0);
   std::memcpy(payload.data(), kMagic, 4);
   payload[4] = kVersionMajor;
-  payload[5] = mean_colors ? 3 : features_first ? 2 : 1;
+  payload[5] = stream_positions ? 4 : mean_colors ? 3 : features_first ? 2 : 1;
   payload[6] = static_cast<uint8_t>((with_ids ? kFlagVertexIds : 0) |
                                     (options.feature_layer ? kFlagFeatureLayer : 0) |
                                     (grey ? kFlagGrey : 0) | (decorrelated ? kFlagDecorrelated : 0) |
@@ -949,6 +1047,7 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
   payload[7] = static_cast<uint8_t>(position_bits);
   payload[8] = static_cast<uint8_t>(color_bits);
   payload[9] = static_cast<uint8_t>(options.speed);
+  payload[10] = stream_positions ? kFlag2Positions : 0;
   PutU32(payload, 12, n);
   PutU32(payload, 16, static_cast<uint32_t>(image.triangles.size()));
   PutU32(payload, 20, static_cast<uint32_t>(creases.size()));
@@ -986,7 +1085,8 @@ Status DecodeDracoPayload(std::span<const uint8_t> payload, const std::string& s
   try {
     SDVI_ASSIGN_OR_RETURN(DecodedMesh mesh,
                           DecodeDracoMesh(payload.subspan(kHeaderSize, h.draco_size), source_name,
-                                          (h.flags & kFlagDecorrelated) != 0, (h.flags & kFlagMeanColors) != 0));
+                                          (h.flags & kFlagDecorrelated) != 0, (h.flags & kFlagMeanColors) != 0,
+                                          (h.flags2 & kFlag2Positions) != 0));
     if (mesh.grey != ((h.flags & kFlagGrey) != 0))
       return Status(StatusCode::kCorrupt, what + ": the Draco COLOR attribute has " +
                                               (mesh.grey ? "1 component" : "3 components") +
@@ -1043,7 +1143,11 @@ Status DecodeDracoPayload(std::span<const uint8_t> payload, const std::string& s
         codec_internal::CollectMeshEdges(out.triangles), h.crease_edge_count, h.corner_count,
         (h.flags & kFlagFeatureLayer) != 0, (h.flags & kFlagCompactPairs) != 0,
         (h.flags & kFlagRankedStarts) != 0, source_name, &tags, (h.flags & kFlagFeaturesFirst) != 0,
-        out.vertices));
+        out.vertices, h.position_bits, (h.flags2 & kFlag2Positions) ? &out.vertices : nullptr));
+    if (h.flags2 & kFlag2Positions)
+      for (size_t i = 0; i < out.vertices.size(); ++i)
+        if (!std::isfinite(out.vertices[i].x) || !std::isfinite(out.vertices[i].y))
+          return Status(StatusCode::kNonFinite, what + ": vertex " + std::to_string(i) + " is not finite");
     out.crease_edges = std::move(tags.crease_edges);
     out.corners = std::move(tags.corners);
     out.polylines = std::move(tags.polylines);
@@ -1083,6 +1187,7 @@ StatusOr<DracoPayloadInfo> InspectDracoPayload(std::span<const uint8_t> payload,
   info.grey = (h.flags & kFlagGrey) != 0;
   info.decorrelated = (h.flags & kFlagDecorrelated) != 0;
   info.neighbour_mean = (h.flags & kFlagMeanColors) != 0;
+  info.stream_positions = (h.flags2 & kFlag2Positions) != 0;
   return info;
 }
 
@@ -1100,8 +1205,18 @@ StatusOr<PartBytes> codec_internal::MeasureDracoParts(std::span<const uint8_t> p
                           EncodeDracoMesh(*positions_only, draco::MESH_EDGEBREAKER_ENCODING,
                                           h.position_bits, h.color_bits, h.speed));
     parts.connectivity = std::min<uint64_t>(topology.size(), h.draco_size);
-    parts.positions = std::min<uint64_t>(with_positions.size(), h.draco_size) - parts.connectivity;
-    parts.colors = h.draco_size - parts.connectivity - parts.positions;
+    if (h.flags2 & kFlag2Positions) {
+      // The positions open the tag stream: their bytes where they end.
+      codec_internal::RangeDecoder rc(payload.subspan(kHeaderSize + h.draco_size, h.tags_size));
+      std::vector<Vertex> scratch(h.vertex_count);
+      SDVI_RETURN_IF_ERROR(codec_internal::DecodePositions(rc, h.position_bits,
+                                                           codec_internal::CollectMeshEdges(image.triangles),
+                                                           source_name, &scratch));
+      parts.positions = std::min<uint64_t>(rc.position(), h.tags_size);
+    } else {
+      parts.positions = std::min<uint64_t>(with_positions.size(), h.draco_size) - parts.connectivity;
+    }
+    parts.colors = h.draco_size - parts.connectivity - ((h.flags2 & kFlag2Positions) ? 0 : parts.positions);
   } catch (const std::bad_alloc&) {
     return Status(StatusCode::kLimitExceeded, source_name + ": out of memory while measuring the payload");
   }
@@ -1116,12 +1231,14 @@ StatusOr<PartBytes> codec_internal::MeasureDracoParts(std::span<const uint8_t> p
     tags.pairs = image.pairs;
     size_t feature_bytes = 0;
     codec_internal::EncodeTags(h.vertex_count, edges, tags, image.vertices, &feature_bytes);
-    parts.feature_layer = std::min<uint64_t>(feature_bytes, h.tags_size);
-    parts.tags = h.tags_size - parts.feature_layer;
+    const uint64_t in_stream = (h.flags2 & kFlag2Positions) ? parts.positions : 0;
+    parts.feature_layer = std::min<uint64_t>(feature_bytes, h.tags_size - in_stream);
+    parts.tags = h.tags_size - in_stream - parts.feature_layer;
   } else {
+    const uint64_t in_stream = (h.flags2 & kFlag2Positions) ? parts.positions : 0;
     const std::vector<uint8_t> without_features = codec_internal::EncodeTags(h.vertex_count, edges, tags);
-    parts.tags = std::min<uint64_t>(without_features.size(), h.tags_size);
-    parts.feature_layer = h.tags_size - parts.tags;
+    parts.tags = std::min<uint64_t>(without_features.size(), h.tags_size - in_stream);
+    parts.feature_layer = h.tags_size - in_stream - parts.tags;
   }
   parts.container = kHeaderSize;
   return parts;

@@ -1,8 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Positions on the codec's grid with folds mended locally (SnapPositionsToGrid in
 // sdvi/codec.h; the rule and its figures: spec/RATE.md section 3).
-#include <draco/core/quantization_utils.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -14,44 +12,15 @@
 
 #include "sdvi/codec.h"
 #include "sdvi/format.h"
+#include "position_stream.h"
 
 namespace sdvi {
 namespace {
 
 constexpr int kMendRounds = 4;
 
-// Draco's position grid for an image (AttributeQuantizationTransform): the per-component
-// minimum and the largest extent, in float, quantized to 2^bits - 1 steps.
-class PositionGrid {
- public:
-  PositionGrid(const Image& image, int bits) {
-    const Vertex& first = image.vertices.front();
-    float lo[2] = {first.x, first.y}, hi[2] = {first.x, first.y};
-    for (const Vertex& v : image.vertices) {
-      const float c[2] = {v.x, v.y};
-      for (int k = 0; k < 2; ++k) {
-        if (lo[k] > c[k]) lo[k] = c[k];
-        if (hi[k] < c[k]) hi[k] = c[k];
-      }
-    }
-    float range = 0.f;
-    for (int k = 0; k < 2; ++k) {
-      min_[k] = lo[k];
-      range = std::max(range, hi[k] - lo[k]);
-    }
-    if (range == 0.f) range = 1.f;
-    const auto max_quantized = static_cast<int32_t>((uint32_t{1} << bits) - 1);
-    quantizer_.Init(range, max_quantized);
-    dequantizer_.Init(range, max_quantized);
-  }
-  int32_t Quantize(float value, int k) const { return quantizer_.QuantizeFloat(value - min_[k]); }
-  float Position(int32_t q, int k) const { return dequantizer_.DequantizeFloat(q) + min_[k]; }
-
- private:
-  float min_[2] = {0.f, 0.f};
-  draco::Quantizer quantizer_;
-  draco::Dequantizer dequantizer_;
-};
+// Draco's position grid (the payload's position stream codes on it too).
+using PositionGrid = codec_internal::DracoPositionGrid;
 
 // An edge of the mesh with its one or two triangles' opposite vertices (second = -1 on
 // the boundary).

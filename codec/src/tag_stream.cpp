@@ -6,6 +6,7 @@
 #include <bit>
 #include <cstring>
 
+#include "position_stream.h"
 #include "range_coder.h"
 
 namespace sdvi::codec_internal {
@@ -491,9 +492,14 @@ std::vector<MeshEdge> CollectMeshEdges(const std::vector<Triangle>& triangles) {
 }
 
 std::vector<uint8_t> EncodeTags(uint32_t vertex_count, const std::vector<MeshEdge>& edges, const Tags& tags,
-                                Positions positions, size_t* feature_bytes) {
+                                Positions positions, size_t* feature_bytes, size_t* position_bytes) {
   RangeEncoder rc;
   FeatureModels m;
+  if (position_bytes) *position_bytes = 0;
+  if (tags.positions) {
+    EncodePositions(rc, *tags.positions, edges);
+    if (position_bytes) *position_bytes = rc.bytes_so_far();
+  }
   const bool features_first = tags.has_feature_layer && tags.features_first;
   if (feature_bytes) *feature_bytes = 0;
   std::vector<Edge> segments;
@@ -559,9 +565,15 @@ Status DecodeTags(std::span<const uint8_t> bytes, uint32_t vertex_count,
                   const std::vector<MeshEdge>& edges, uint32_t expected_crease_edges,
                   uint32_t expected_corners, bool has_feature_layer, bool compact_pairs,
                   bool ranked_starts, const std::string& source_name, Tags* tags, bool features_first,
-                  Positions positions) {
+                  Positions positions, int position_bits, std::vector<Vertex>* decoded_positions) {
   const std::string what = source_name + ": Draco payload tag stream";
   RangeDecoder rc(bytes);
+  if (decoded_positions) {
+    if (decoded_positions->size() != vertex_count)
+      return Status(StatusCode::kInternal, what + ": the vertices to decode positions into are missing");
+    SDVI_RETURN_IF_ERROR(DecodePositions(rc, position_bits, edges, what, decoded_positions));
+    positions = *decoded_positions;
+  }
   FeatureModels m;
   Tags out;
   out.has_feature_layer = has_feature_layer;

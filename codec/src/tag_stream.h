@@ -37,6 +37,8 @@
 
 namespace sdvi::codec_internal {
 
+struct PositionStream;  // position_stream.h
+
 // One undirected mesh edge and the number of triangles that have it.
 struct MeshEdge {
   uint32_t a = 0, b = 0;  // a < b
@@ -56,6 +58,8 @@ struct Tags {
   bool compact_pairs = true;               // the pairs coded compactly (payload 1.1)
   bool ranked_starts = true;               // polyline starts coded by rank (payload 1.1)
   bool features_first = false;             // the feature layer before the edge bits (payload 1.2)
+  // The vertex positions, coded first (payload 1.4, position_stream.h); null: in the Draco mesh.
+  const PositionStream* positions = nullptr;
 };
 
 // The decoded positions of the vertices (their x, y; features_first orders a polyline's
@@ -65,18 +69,22 @@ using Positions = std::span<const Vertex>;
 // Codes tags of a mesh with vertex_count vertices and the given edges. With
 // tags.features_first and a feature layer, positions must hold vertex_count vertices as the
 // reader decodes them; *feature_bytes (when given) receives the bytes of the stream up to the end of its feature layer
-// (features first only; else 0).
+// (features first only; else 0), *position_bytes those up to the end of the positions (0 without them).
 std::vector<uint8_t> EncodeTags(uint32_t vertex_count, const std::vector<MeshEdge>& edges,
-                                const Tags& tags, Positions positions = {}, size_t* feature_bytes = nullptr);
+                                const Tags& tags, Positions positions = {}, size_t* feature_bytes = nullptr,
+                                size_t* position_bytes = nullptr);
 
 // Decodes tags (the feature layer when has_feature_layer); kCorrupt (naming source_name)
 // when the stream overruns, names a vertex or polyline that does not exist, or its counts
-// differ from the header's.
+// differ from the header's. With decoded_positions (vertex_count vertices) the stream starts with
+// the positions on a grid of position_bits (payload 1.4): their x, y are decoded into it and
+// the feature layer is ordered by them (positions is then ignored).
 Status DecodeTags(std::span<const uint8_t> bytes, uint32_t vertex_count,
                   const std::vector<MeshEdge>& edges, uint32_t expected_crease_edges,
                   uint32_t expected_corners, bool has_feature_layer, bool compact_pairs,
                   bool ranked_starts, const std::string& source_name, Tags* tags,
-                  bool features_first = false, Positions positions = {});
+                  bool features_first = false, Positions positions = {}, int position_bits = 0,
+                  std::vector<Vertex>* decoded_positions = nullptr);
 
 // The parts of a Draco payload (PartBytes in sdvi/codec.h; container = its 40-byte header);
 // defined in draco_payload.cpp.

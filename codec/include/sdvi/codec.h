@@ -7,7 +7,8 @@
 // attributes (ColorCoding), all quantized; optionally a GENERIC uint32 attribute holding
 // original vertex ids) and a tag stream (adaptive binary range
 // coding: one bit per mesh edge, crease or not; one per vertex, explicit corner or not;
-// then, by default, the feature layer as walks along crease edges). The rest of the
+// then, by default, the feature layer as walks along crease edges; in payload 1.4 opened by
+// the positions on Draco's grid, predicted by the mean of the decoded neighbours). The rest of the
 // image (size, metadata; the feature layer when the payload does not carry it) stays in
 // the container.
 //
@@ -67,6 +68,10 @@ struct CompressOptions {
   bool features_first = true;
   // With kSmallest: also try neighbour-mean colours (payload 1.3, spec/FORMAT.md 8.2).
   bool neighbour_mean = true;
+  // With kSmallest and no vertex ids: also try the positions coded in the tag stream, each
+  // predicted by the mean of its neighbours decoded before it (payload 1.4, spec/FORMAT.md
+  // 8.7), kept when the payload is smaller.
+  bool stream_positions = true;
   // Repeat the payload header's settings as container params (spec/FORMAT.md 8): what v1.0
   // writers did; redundant with the header and ~220 bytes a file, so off by default.
   bool container_params = false;
@@ -167,6 +172,7 @@ struct DracoPayloadInfo {
   bool grey = false;  // every vertex has R = G = B: one colour component coded
   bool decorrelated = false;  // colours coded as L, C1, C2 (ColorCoding::kDecorrelated)
   bool neighbour_mean = false;  // ... predicted by the decoded neighbours' mean (payload 1.3)
+  bool stream_positions = false;  // positions in the tag stream, not in the Draco mesh (payload 1.4)
 };
 StatusOr<DracoPayloadInfo> InspectDracoPayload(std::span<const uint8_t> payload,
                                                const std::string& source_name);
@@ -214,7 +220,8 @@ StatusOr<CompressionReport> ReportCompression(const SdviFile& file, const std::s
 //    = what the container grows by with it, container = the rest (header, tables, metadata).
 //  Draco payload (measured by re-encoding parts of the decoded mesh at the file's settings):
 //    connectivity = the Draco mesh with 1-bit positions and no colours, positions = the
-//    mesh with positions minus that, colours = the rest of the Draco mesh (vertex ids, when
+//    mesh with positions minus that (payload 1.4 with the positions in the tag stream: the
+//    stream's bytes up to their end), colours = the rest of the Draco mesh (vertex ids, when
 //    present, included), tags = crease and corner bits, feature layer = the rest of the tag
 //    stream, container = payload header, container, metadata.
 struct PartBytes {

@@ -50,6 +50,7 @@ struct RateOptions {
   ColorCoding color_coding = ColorCoding::kSmallest;
   bool features_first = true;  // the feature layer first (payload 1.2; false: 1.1), sdvi/codec.h
   bool neighbour_mean = true;  // kSmallest also tries neighbour-mean colours (payload 1.3), sdvi/codec.h
+  bool stream_positions = true;  // kSmallest also tries positions in the tag stream (payload 1.4), sdvi/codec.h
   int threads = 1;
 };
 
