@@ -9,6 +9,12 @@
 #            hardening (the bad-input matrix), render (raster input and output), fit
 #            (triangulation, where CGAL's mesher once read an uninitialised flag).
 #   all:     every test executable (the whole Catch2 suite; what scripts/test.sh runs).
+#   cli:     the command itself (build-asan/cli/sdvi) through the command-line tests: the
+#            bad-input matrix (tests/hardening/cli_matrix.sh), the conventions
+#            (tests/cli/cli_conventions_test.sh) and batch mode (tests/cli/cli_batch_test.cmake).
+#            Not part of scripts/test.sh: about 300 processes, each a few seconds under ASan
+#            (25 minutes on 2 cores, measured). A sanitizer report in any process fails the set,
+#            whatever that process's exit code.
 #   env: ASAN_BUILD_DIR (default build-asan)
 # The readers are also fuzzed under ASan + UBSan by the fuzz.* tests (scripts/fuzz.sh).
 set -euo pipefail
@@ -17,7 +23,8 @@ WHICH=${1:-readers}
 case "$WHICH" in
   readers) TESTS="format codec hardening render fit" ;;
   all) TESTS="format codec hardening render fit engine gltf create edit pdf svg svg_export rate cli" ;;
-  *) echo "sanitize.sh: unknown set '$WHICH' (readers or all)" >&2; exit 2 ;;
+  cli) TESTS="" ;;
+  *) echo "sanitize.sh: unknown set '$WHICH' (readers, all or cli)" >&2; exit 2 ;;
 esac
 DIR=${ASAN_BUILD_DIR:-build-asan}
 SAN="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
@@ -29,6 +36,7 @@ cmake -S . -B "$DIR" -G Ninja -DCMAKE_BUILD_TYPE=Sanitize "${LAUNCHER[@]}" \
   -DSDVI_BUILD_BENCH=OFF -DSDVI_RASTER_MODULE=OFF -DSDVI_BUILD_PYTHON=OFF -DSDVI_FUZZ_TESTS=OFF >/dev/null
 targets=()
 for t in $TESTS; do targets+=("sdvi_${t}_tests"); done
+[ "$WHICH" = cli ] && targets=(sdvi)
 cmake --build "$DIR" -j"$(nproc)" --target "${targets[@]}"
 
 # Whole stacks for allocations (libstdc++ has no frame pointers), so that the known leaks
@@ -40,6 +48,28 @@ export ASAN_OPTIONS=detect_leaks=1:fast_unwind_on_malloc=0:strict_string_checks=
 export LSAN_OPTIONS=suppressions=$SUPP:print_suppressions=0
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 failed=0
+if [ "$WHICH" = cli ]; then
+  # Every report goes to a file of its own (a process's exit code alone cannot tell a
+  # sanitizer's error from sdvi's refusal of bad input). An allocation past --max-memory
+  # returns null, as without ASan, so that the limit error is tested rather than ASan's.
+  LOGS="$(cd "$DIR" && pwd)/cli_sanitize" && rm -rf "$LOGS" && mkdir -p "$LOGS"
+  SDVI="$(cd "$DIR" && pwd)/cli/sdvi"
+  export ASAN_OPTIONS=$ASAN_OPTIONS:allocator_may_return_null=1:log_path=$LOGS/asan
+  export UBSAN_OPTIONS=$UBSAN_OPTIONS:log_path=$LOGS/ubsan
+  run() {  # NAME COMMAND...
+    if "${@:2}" >"$LOGS/$1.log" 2>&1; then echo "sanitize: $1: passed"
+    else failed=$((failed + 1)); echo "sanitize: $1 FAILED; its log:" >&2; tail -20 "$LOGS/$1.log" >&2; fi
+  }
+  run cli_matrix bash tests/hardening/cli_matrix.sh "$SDVI" "$PWD/tests/data" "$LOGS/cli_matrix"
+  run cli_conventions bash tests/cli/cli_conventions_test.sh "$SDVI" "$LOGS/cli_conventions"
+  run cli_batch cmake -DSDVI="$SDVI" -DWORK="$LOGS/cli_batch" -P tests/cli/cli_batch_test.cmake
+  for report in "$LOGS"/asan.* "$LOGS"/ubsan.*; do
+    [ -e "$report" ] || continue
+    failed=$((failed + 1))
+    echo "sanitize: a sanitizer report, $report:" >&2
+    head -30 "$report" >&2
+  done
+fi
 for t in $TESTS; do
   # The tests' working directory is their build directory, as under ctest.
   # Cases tagged [slow] (a minute or more under ASan at -O1) run in the release suite only.
