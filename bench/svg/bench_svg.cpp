@@ -18,6 +18,8 @@
 //   --outline-only (both tables): outline features only, no detected edges where no outline
 //     explains one (SvgArtworkOptions::detect_uncovered_edges = false), the ablation.
 //   --no-thin-fills (both tables): fills' parts thinner than 3 px are not thin structures
+//   --polygon-offset D (both tables): SvgArtworkOptions::polygon_offset (default 0.5 px; 0:
+//     no bound on the control polygon's distance from its spline, the ablation)
 //     (SvgArtworkOptions::thin_fills = false), the ablation.
 #include <zlib.h>
 
@@ -131,6 +133,7 @@ std::vector<fs::path> SvgFiles(const fs::path& dir) {
 
 bool g_outline_only = false;
 bool g_no_thin_fills = false;
+double g_polygon_offset = sdvi::SvgArtworkOptions{}.polygon_offset;
 std::string g_dump_dir;
 
 int W3cTable(const fs::path& dir, double ratio, double feature_fraction) {
@@ -165,6 +168,7 @@ int W3cTable(const fs::path& dir, double ratio, double feature_fraction) {
     options.vectorize.max_feature_fraction = feature_fraction;
     options.detect_uncovered_edges = !g_outline_only;
     options.thin_fills = !g_no_thin_fills;
+    options.polygon_offset = g_polygon_offset;
     auto result = sdvi::ImportSvgArtwork(*document, options);
     if (!result.ok()) {
       std::printf("%-24s error: %s\n", svg.stem().c_str(), result.status().ToString().c_str());
@@ -228,6 +232,7 @@ int IconTable(const fs::path& dir, int width, int max_triangles) {
     options.vectorize.max_triangles = max_triangles;
     options.detect_uncovered_edges = !g_outline_only;
     options.thin_fills = !g_no_thin_fills;
+    options.polygon_offset = g_polygon_offset;
     auto art = sdvi::ImportSvgArtwork(*document, options);
     if (!art.ok()) {
       std::printf("%-22s error: %s\n", svg.stem().c_str(), art.status().ToString().c_str());
@@ -294,6 +299,8 @@ int main(int argc, char** argv) {
       }
     } else if (!std::strcmp(argv[i], "--outline-only")) {
       g_outline_only = true;
+    } else if (!std::strcmp(argv[i], "--polygon-offset") && i + 1 < argc) {
+      g_polygon_offset = std::atof(argv[++i]);
     } else if (!std::strcmp(argv[i], "--no-thin-fills")) {
       g_no_thin_fills = true;
     } else if (!std::strcmp(argv[i], "--max-triangles") && i + 1 < argc) {
@@ -305,6 +312,6 @@ int main(int argc, char** argv) {
   if (mode == "w3c") return W3cTable(dir.empty() ? "../shared/data/svg-w3c" : dir, ratio, feature_fraction);
   if (mode == "icons") return IconTable(dir.empty() ? "../shared/data/svg" : dir, width, max_triangles);
   std::fprintf(stderr, "usage: bench_svg w3c [DIR] [--ratio R] | icons [DIR] [--width W] [--max-triangles N]; "
-                       "[--outline-only] [--no-thin-fills] [--dump DIR]\n");
+                       "[--outline-only] [--no-thin-fills] [--polygon-offset D] [--dump DIR]\n");
   return 2;
 }

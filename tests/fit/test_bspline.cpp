@@ -161,3 +161,46 @@ TEST_CASE("degenerate chains give usable polygons", "[bspline]") {
   REQUIRE(tri.polygon.size() == 3);
   for (const Point2& p : tri.polygon) REQUIRE(std::isfinite(p.y));
 }
+
+TEST_CASE("PolygonOffset is the distance from a deBoor point to its own spline", "[bspline]") {
+  // A closed square of "radius" a (points on the axes): the spline passes through
+  // (P(i-1) + 4 P(i) + P(i+1)) / 6 = 2a/3 along each axis, a/3 inside the point.
+  const double a = 6;
+  const std::vector<Point2> diamond = {{a, 0}, {0, a}, {-a, 0}, {0, -a}};
+  CHECK(sdvi::PolygonOffset(diamond, true) == Approx(a / 3).epsilon(1e-9));
+  // A straight open polygon lies on its spline (up to the sampling, 1/16 of a span); fewer
+  // than three points have no offset.
+  CHECK(sdvi::PolygonOffset({{0, 0}, {5, 0}, {10, 0}, {20, 0}}, false) < 0.1);
+  CHECK(sdvi::PolygonOffset({{0, 0}, {10, 0}}, false) == 0);
+  // An open corner: P1 = (5, 5) between (0, 0) and (10, 0); the spline's nearest approach,
+  // measured against the independent evaluator, is what PolygonOffset gives (up to its
+  // 1/16-span sampling).
+  const std::vector<Point2> tent = {{0, 0}, {5, 5}, {10, 0}};
+  double nearest = 1e9;
+  for (int k = 0; k <= 2000; ++k) {
+    const Point2 c = IndependentOpen(tent, 2.0 * k / 2000);
+    nearest = std::min(nearest, std::hypot(c.x - 5, c.y - 5));
+  }
+  CHECK(sdvi::PolygonOffset(tent, false) == Approx(nearest).margin(0.01));
+}
+
+TEST_CASE("max_polygon_offset adds deBoor points until the polygon keeps to its curve", "[bspline]") {
+  // A small circle (a glyph's counter, radius 4): within the 0.5 px tolerance with few
+  // points, whose polygon lies well outside the circle.
+  std::vector<Point2> samples;
+  for (int i = 0; i < 50; ++i) {
+    const double t = 2 * M_PI * i / 50;
+    samples.push_back({32 + 4 * std::cos(t), 32 + 4 * std::sin(t)});
+  }
+  sdvi::BSplineFitOptions options;
+  options.tolerance = 0.5;
+  const sdvi::BSplineFit loose = sdvi::FitClosedBSpline(samples, options);
+  CHECK(loose.max_error <= 0.5);
+  CHECK(sdvi::PolygonOffset(loose.polygon, true) > 1.0);
+  options.max_polygon_offset = 0.5;
+  const sdvi::BSplineFit near = sdvi::FitClosedBSpline(samples, options);
+  CHECK(near.max_error <= 0.5);
+  CHECK(sdvi::PolygonOffset(near.polygon, true) <= 0.5);
+  CHECK(near.polygon.size() > loose.polygon.size());
+  for (const Point2& p : near.polygon) CHECK(std::hypot(p.x - 32, p.y - 32) < 4.5 + 0.5);
+}

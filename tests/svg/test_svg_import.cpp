@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "sdvi/bspline.h"
@@ -548,4 +549,47 @@ TEST_CASE("svg artwork: an open stroke with round caps is one closed feature aro
   REQUIRE(sides.size() == 2);
   CHECK_FALSE(sides[0].closed);
   CHECK_FALSE(sides[1].closed);
+}
+
+TEST_CASE("svg artwork: a small ring keeps its hole (a glyph's counter)", "[svg]") {
+  // Black rings 2.5 px wide around holes of radius 4, 16 px apart (a row of 'o's at 30 px):
+  // each hole a closed outline whose few deBoor points (4 fit it within 0.5 px) lay 2 px
+  // outside it, within the clearance of the ring's outer outline, so the mesh cut the hole
+  // out and it was filled grey. With the polygon within polygon_offset of its curve the
+  // hole is a feature and stays white.
+  std::string body;
+  for (int k = 0; k < 4; ++k) {
+    const double cx = 10.3 + 16 * k, cy = 16.6;
+    char ring[256];
+    std::snprintf(ring, sizeof ring,
+                  "<path fill-rule=\"evenodd\" d=\"M %g %g a 6.5 6.5 0 1 0 13 0 a 6.5 6.5 0 1 0 -13 0 z "
+                  "M %g %g a 4 4 0 1 0 8 0 a 4 4 0 1 0 -8 0 z\"/>",
+                  cx - 6.5, cy, cx - 4, cy);
+    body += ring;
+  }
+  const sdvi::SvgDocument doc = Doc("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"72\" height=\"32\">"
+                                    "<rect width=\"72\" height=\"32\" fill=\"white\"/>" + body + "</svg>");
+  const auto [reference, traced] = RenderAndTrace(doc, 72, 32);
+  sdvi::SvgArtworkOptions options;
+  size_t holes = 0;
+  for (const sdvi::FeatureCurve& c : sdvi::ArtworkFeatures(traced.shapes, reference, options)) {
+    CHECK(sdvi::PolygonOffset(c.points, c.closed) <= options.polygon_offset);
+    // A hole's spline: within 0.5 px of radius 4 around its ring's centre.
+    const std::vector<sdvi::Point2> spline = sdvi::SampleFeatureCurve(c);
+    const double cx = 10.3 + 16 * std::floor(spline[0].x / 16);
+    holes += c.closed && std::all_of(spline.begin(), spline.end(), [&](sdvi::Point2 p) {
+               return std::fabs(std::hypot(p.x - cx, p.y - 16.6) - 4) < 0.5;
+             });
+  }
+  CHECK(holes == 4);
+  options.vectorize.compression_ratio = 16;
+  auto result = sdvi::ImportSvgArtwork(doc, options);
+  REQUIRE(result.ok());
+  for (int k = 0; k < 4; ++k) {
+    // The hole's centre is white in librsvg's drawing and in the import.
+    const int x = int(10.3 + 16 * k), y = 16;
+    INFO("ring " << k);
+    CHECK(reference.at(x, y, 0) > 250);
+    for (int c = 0; c < 3; ++c) CHECK(result->vectorized.reconstruction.at(x, y, c) > 230);
+  }
 }

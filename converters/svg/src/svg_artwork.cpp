@@ -399,6 +399,9 @@ void EmitRun(const Side& side, const std::vector<size_t>& run, bool closed, cons
   if (length < o.min_length || points.size() < (closed ? 4u : 2u)) return;
   BSplineFitOptions fit;
   fit.tolerance = o.tolerance;
+  // The control polygon near its curve, where the features' cost comes on top of the budget
+  // (no triangle cap): spec/SVG.md section 4 step 2.
+  if (o.vectorize.max_triangles == 0) fit.max_polygon_offset = o.polygon_offset;
   FeatureCurve curve = FitChain(points, closed, corners, fit);
   if (curve.points.size() < 2) return;
   curve.sharpness = 1.0f;
@@ -814,7 +817,7 @@ std::vector<FeatureCurve> ArtworkFeatures(const std::vector<SvgShape>& shapes, c
 StatusOr<SvgArtworkResult> ImportSvgArtwork(const SvgDocument& document, const SvgArtworkOptions& options,
                                             SvgError* error) {
   if (!(options.tolerance > 0) || !(options.sample_spacing > 0) || !(options.min_contrast >= 0) ||
-      !(options.min_length >= 0)) {
+      !(options.min_length >= 0) || !(options.polygon_offset >= 0)) {
     return Status(StatusCode::kInvalidArgument, document.name + ": artwork options out of range");
   }
   SDVI_ASSIGN_OR_RETURN(SvgSize size, ChooseSvgSize(document, options.width, options.scale, options.limits, error));

@@ -6,6 +6,7 @@
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace sdvi {
 namespace {
@@ -163,6 +164,31 @@ double CorrectParameters(const std::vector<Point2>& q, std::vector<double>& t,
   return max_error;
 }
 
+}  // namespace
+
+double PolygonOffset(const std::vector<Point2>& polygon, bool closed) {
+  const int m = int(polygon.size());
+  if (m < 3) return 0;
+  const int spans = closed ? m : m - 1;
+  constexpr int kPerSpan = 16;
+  double worst = 0;
+  for (int i = 0; i < m; ++i) {
+    // Point i shapes spans i - 2 .. i + 1 (closed: mod m; open: those that exist).
+    double nearest = std::numeric_limits<double>::infinity();
+    for (int s = i - 2; s <= i + 1; ++s) {
+      if (!closed && (s < 0 || s >= spans)) continue;
+      for (int k = 0; k <= kPerSpan; ++k) {
+        const double t = s + double(k) / kPerSpan;
+        nearest = std::min(nearest, Dist(polygon[i], Eval(polygon, closed, t)));
+      }
+    }
+    worst = std::max(worst, nearest);
+  }
+  return worst;
+}
+
+namespace {
+
 BSplineFit FitSpline(const std::vector<Point2>& q, bool closed, const BSplineFitOptions& o) {
   BSplineFit fit;
   if (q.empty()) return fit;
@@ -187,11 +213,15 @@ BSplineFit FitSpline(const std::vector<Point2>& q, bool closed, const BSplineFit
       poly = SolvePolygon(q, t, count, closed);
       err = CorrectParameters(q, t, poly, closed);
     }
-    if (round == 0 || err < fit.max_error) {
+    // Done when within the tolerance and (max_polygon_offset) the polygon near its curve;
+    // else the smallest error so far is kept.
+    const bool done = err <= o.tolerance &&
+                      (!(o.max_polygon_offset > 0) || PolygonOffset(poly, closed) <= o.max_polygon_offset);
+    if (round == 0 || done || err < fit.max_error) {
       fit.polygon = poly;
       fit.max_error = err;
     }
-    if (err <= o.tolerance || count >= max_count || round + 1 >= o.max_iterations) break;
+    if (done || count >= max_count || round + 1 >= o.max_iterations) break;
     count = std::min(max_count, int(std::ceil(count * 1.3)) + 1);
   }
   return fit;

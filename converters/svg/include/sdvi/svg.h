@@ -184,6 +184,11 @@ struct SvgArtworkOptions {
     return v;
   }();
   double tolerance = 0.5;         // px: max distance from the B-spline to the exact outline
+  // px: without vectorize.max_triangles, deBoor points are also added until every one lies
+  // within this of its spline (BSplineFitOptions::max_polygon_offset): the mesh places the
+  // control polygon, and a small closed outline's few points (a glyph's counter) lie far
+  // outside it (spec/SVG.md section 4 step 2). 0: no bound.
+  double polygon_offset = 0.5;
   double corner_angle_deg = 25;   // a turn of more than this at a segment joint keeps a kink
   double min_contrast = 16;       // RMS step over R, G, B (0..255) across an outline, 1.5 px
                                   // either side, that makes it a feature

@@ -36,6 +36,10 @@ struct BSplineFitOptions {
   double initial_spacing = 8;  // initial deBoor count = max(4, length / spacing) (paper)
   double max_spacing = 12;     // no control-polygon segment spans more arc length than this
   int max_iterations = 8;      // rounds of "add deBoor points, refit"
+  // > 0: deBoor points are also added until every deBoor point lies within this many px of
+  // the spline (PolygonOffset), so the control polygon, which the control mesh places
+  // (src/pairs.h), keeps to the curve it stands for; 0: no such bound.
+  double max_polygon_offset = 0;
 };
 
 struct BSplineFit {
@@ -43,6 +47,11 @@ struct BSplineFit {
   double max_error = 0;         // max distance from a sample to the spline (after
                                 // parameter correction), px
 };
+
+// The largest distance from a deBoor point to its spline (the open end-interpolating one,
+// or the uniform periodic one when closed), sampled 16 times per span over the spans the
+// point shapes: how far the control polygon strays from the curve; 0 for fewer than 3 points.
+double PolygonOffset(const std::vector<Point2>& polygon, bool closed);
 
 // Least-squares end-interpolating fit to an open chain of samples (>= 2); the first and
 // last deBoor points are the first and last samples. Adds deBoor points until the max
