@@ -547,7 +547,10 @@ std::vector<bool> BadSegments(const std::vector<const PlacedPolyline*>& lines, c
       const bool at_end = (x.vertex >= 0 && (x.vertex == placed_segment || x.vertex == (placed_segment + 1) % pm)) ||
                           (x.candidate_vertex >= 0 &&
                            (x.candidate_vertex == k.segment || x.candidate_vertex == (k.segment + 1) % m));
-      if (x.line == k.line && x.polyline == polyline && (!touching || at_end) &&
+      // Touching is explained only where the junction lies on the candidate segment: a
+      // segment beside it that comes back onto the placed one crosses it a second time.
+      if (x.line == k.line && x.polyline == polyline &&
+          (!touching || (at_end && PointSegmentDistance(x.at, a, b) < kTouch)) &&
           PointSegmentDistance(x.at, a, b) < x.radius && DistanceOutsideDisc(a, b, c, d, x.at, x.radius) >= clearance)
         k.junctions.push_back(j);
     }

@@ -177,10 +177,14 @@ struct SvgArtworkOptions {
   double scale = 0;    // output size = scale x intrinsic size (0: 1)
   SvgLimits limits;
   // The vectorizer's options; given_features_extra 1: the exact features' own vertices
-  // come on top of the budget, up to once more the budget (spec/SVG.md section 4 step 4).
+  // come on top of the budget, up to once more the budget; mesh.clearance 0.5 px: exact
+  // outlines 1-2 px apart (a glyph on a hairline) are both real, so different features'
+  // polylines may come as close as a sharp pair's sides to its centre (spec/SVG.md
+  // section 4 step 4).
   VectorizeOptions vectorize = [] {
     VectorizeOptions v;
     v.given_features_extra = 1.0;
+    v.mesh.clearance = 0.5f;
     return v;
   }();
   double tolerance = 0.5;         // px: max distance from the B-spline to the exact outline
