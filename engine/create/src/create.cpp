@@ -496,8 +496,9 @@ StatusOr<std::vector<bool>> ColorPairs(Image& image, const std::vector<FittedCur
       }
     std::sort(candidates.begin(), candidates.end());
     bool matched = false;
-    for (auto [c, start] : candidates) {
-      const FittedCurve& fc = curves[c];
+    for (const auto& candidate : candidates) {
+      const size_t start = candidate.second;  // a plain variable: lambdas below capture it
+      const FittedCurve& fc = curves[candidate.first];
       const size_t n = fc.feature.points.size();
       if (right.size() > n || left.size() != right.size()) continue;
       // The control point of each pair vertex: the first at start, each next one the
