@@ -3,7 +3,9 @@
 // the whole, numbering follows tagged_mesh.h.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "sdvi/subdiv.h"
 #include "sdvi/tagged_mesh.h"
@@ -206,4 +208,125 @@ TEST_CASE("The stencil table does not depend on the number of threads", "[stenci
   auto direct_three = RefineImage(image, options);
   REQUIRE(direct_one.ok());
   CHECK(direct_one->vertices == direct_three->vertices);
+}
+
+namespace {
+
+// Rows of a table with double weights (test-side composition, below).
+struct Rows {
+  std::vector<uint32_t> offsets{0};
+  std::vector<uint32_t> indices;
+  std::vector<double> weights;
+};
+
+// Row (indices, weights) through previous (null: the identity), summed as the stencil build
+// sums: each term in order, through each of the previous row's terms in order, in double;
+// then sorted by column with exact zeros dropped.
+void ComposeRow(const std::vector<uint32_t>& indices, const std::vector<double>& weights, const Rows* previous,
+                Rows& out) {
+  std::map<uint32_t, double> sum;
+  for (size_t k = 0; k < indices.size(); ++k) {
+    if (!previous) {
+      sum[indices[k]] += weights[k];
+      continue;
+    }
+    for (uint32_t j = previous->offsets[indices[k]]; j < previous->offsets[indices[k] + 1]; ++j)
+      sum[previous->indices[j]] += weights[k] * previous->weights[j];
+  }
+  for (const auto& [c, w] : sum) {
+    if (w == 0) continue;
+    out.indices.push_back(c);
+    out.weights.push_back(w);
+  }
+  out.offsets.push_back(static_cast<uint32_t>(out.indices.size()));
+}
+
+}  // namespace
+
+// BuildLimitSurface computes mask rows as it composes them (AppendRefinementRow,
+// AppendLimitRow, AppendEdgeChildLimitMask) instead of building RefinementMasks and
+// LimitMasks: the rows must be those masks' rows, and the table the one composed from them.
+TEST_CASE("Mask rows computed on the fly equal the built masks, and the table their composition", "[stencils]") {
+  const Image image = FeatureGrid(5);
+  auto control = TaggedMesh::FromImage(image);
+  REQUIRE(control.ok());
+  TaggedMesh mesh = *control;
+  Rows previous;  // level-k vertices over control vertices
+  for (int level = 1; level <= 3; ++level) {
+    INFO("level " << level);
+    const SparseRows masks = RefinementMasks(mesh);
+    const SparseRows limit = LimitMasks(mesh);
+    std::vector<uint32_t> indices;
+    std::vector<double> weights;
+    for (size_t r = 0; r < masks.rows(); ++r) {
+      indices.clear();
+      weights.clear();
+      AppendRefinementRow(mesh, r, indices, weights);
+      REQUIRE(indices == std::vector<uint32_t>(masks.indices.begin() + masks.offsets[r],
+                                               masks.indices.begin() + masks.offsets[r + 1]));
+      REQUIRE(weights == std::vector<double>(masks.weights.begin() + masks.offsets[r],
+                                             masks.weights.begin() + masks.offsets[r + 1]));
+    }
+    for (uint32_t v = 0; v < mesh.num_vertices(); ++v) {
+      indices.clear();
+      weights.clear();
+      AppendLimitRow(mesh, v, indices, weights);
+      REQUIRE(indices == std::vector<uint32_t>(limit.indices.begin() + limit.offsets[v],
+                                               limit.indices.begin() + limit.offsets[v + 1]));
+      REQUIRE(weights == std::vector<double>(limit.weights.begin() + limit.offsets[v],
+                                             limit.weights.begin() + limit.offsets[v + 1]));
+    }
+    // The level's table from the built masks: vertex children take their parent's limit
+    // row, edge children the limit over their one-ring of refinement rows, repeated
+    // columns merged first (in order of first appearance, summed in order).
+    Rows table;
+    const Rows* before = level == 1 ? nullptr : &previous;
+    for (uint32_t v = 0; v < mesh.num_vertices(); ++v) {
+      indices.assign(limit.indices.begin() + limit.offsets[v], limit.indices.begin() + limit.offsets[v + 1]);
+      weights.assign(limit.weights.begin() + limit.offsets[v], limit.weights.begin() + limit.offsets[v + 1]);
+      ComposeRow(indices, weights, before, table);
+    }
+    for (uint32_t e = 0; e < mesh.num_edges(); ++e) {
+      uint32_t ring[7];
+      double lambda[7];
+      const int n = EdgeChildLimitRing(mesh, e, ring, lambda);
+      std::vector<uint32_t> merged;
+      std::vector<double> merged_weights;
+      for (int k = 0; k < n; ++k) {
+        if (lambda[k] == 0) continue;
+        for (uint32_t j = masks.offsets[ring[k]]; j < masks.offsets[ring[k] + 1]; ++j) {
+          const double w = lambda[k] * masks.weights[j];
+          const auto at = std::find(merged.begin(), merged.end(), masks.indices[j]);
+          if (at == merged.end()) {
+            merged.push_back(masks.indices[j]);
+            merged_weights.push_back(w);
+          } else {
+            merged_weights[size_t(at - merged.begin())] += w;
+          }
+        }
+      }
+      ComposeRow(merged, merged_weights, before, table);
+    }
+    LimitSurfaceOptions options;
+    options.levels = level;
+    options.threads = 2;
+    auto surface = BuildLimitSurface(image, options);
+    REQUIRE(surface.ok());
+    const StencilTable& built = surface->stencils;
+    CHECK(built.offsets == table.offsets);
+    CHECK(built.indices == table.indices);
+    REQUIRE(built.weights.size() == table.weights.size());
+    size_t differing = 0;
+    for (size_t k = 0; k < table.weights.size(); ++k) differing += built.weights[k] != static_cast<float>(table.weights[k]);
+    CHECK(differing == 0);
+    // The next level's rows over the control vertices, for the next level's table.
+    Rows next;
+    for (size_t r = 0; r < masks.rows(); ++r) {
+      indices.assign(masks.indices.begin() + masks.offsets[r], masks.indices.begin() + masks.offsets[r + 1]);
+      weights.assign(masks.weights.begin() + masks.offsets[r], masks.weights.begin() + masks.offsets[r + 1]);
+      ComposeRow(indices, weights, before, next);
+    }
+    previous = std::move(next);
+    mesh = mesh.Refine();
+  }
 }

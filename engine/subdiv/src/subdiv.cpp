@@ -356,18 +356,6 @@ void Compose(int requested_threads, size_t num_rows, const MaskRow& mask_row, co
   for (const auto& block : rest) add_sizes(block.sizes);
 }
 
-// A mask row from precomputed rows (row_list maps output rows to mask rows when non-null).
-struct RowsOf {
-  const SparseRows& rows;
-  const std::vector<uint32_t>* row_list = nullptr;
-  void operator()(size_t r, ComposeScratch& s) const {
-    const size_t row = row_list ? (*row_list)[r] : r;
-    for (uint32_t k = rows.offsets[row]; k < rows.offsets[row + 1]; ++k) {
-      s.row_indices.push_back(rows.indices[k]);
-      s.row_weights.push_back(rows.weights[k]);
-    }
-  }
-};
 
 }  // namespace
 
@@ -427,10 +415,15 @@ StatusOr<LimitSurface> BuildLimitSurface(const Image& image, const LimitSurfaceO
   // stencils: level-k vertices over base vertices (identity while k = 0).
   SparseRows stencils;
   const SparseRows* previous = nullptr;
+  // Mask rows are computed as they are composed (AppendRefinementRow, AppendLimitRow), so
+  // no level's masks are held in memory beside the tables (spec/SUBDIVISION.md, memory).
+  auto refinement_row = [&mesh](size_t row, ComposeScratch& s) {
+    AppendRefinementRow(mesh, row, s.row_indices, s.row_weights);
+  };
   for (int k = 0; k + 1 < options.levels; ++k) {
     SparseRows next;
-    const SparseRows masks = RefinementMasks(mesh);
-    Compose(options.threads, masks.rows(), RowsOf{masks}, previous, num_base, {}, next.offsets, next.indices, next.weights);
+    Compose(options.threads, size_t{mesh.num_vertices()} + mesh.num_edges(), refinement_row, previous, num_base, {},
+            next.offsets, next.indices, next.weights);
     stencils = std::move(next);
     previous = &stencils;
     mesh = mesh.Refine();
@@ -441,7 +434,8 @@ StatusOr<LimitSurface> BuildLimitSurface(const Image& image, const LimitSurfaceO
   // child's comes from AppendEdgeChildLimitMask.
   const bool refine_once = options.levels > 0;
   // A whole mesh's output vertices are all of the finest level's, in order; its triangles
-  // and parents are selected after the table, once the masks are freed (less peak memory).
+  // and parents are selected after the table, once the previous level's stencils are freed
+  // (less peak memory).
   const bool whole = plan.keep.empty();
   FineSelection selection;
   if (whole) {
@@ -457,43 +451,28 @@ StatusOr<LimitSurface> BuildLimitSurface(const Image& image, const LimitSurfaceO
   surface.stencils.num_control = static_cast<uint32_t>(image.vertices.size());
   StencilTable& table = surface.stencils;
   const size_t num_rows = selection.vertices.size();
-  if (!refine_once && !options.to_limit) {
-    SparseRows identity;
-    identity.offsets.resize(size_t{num_base} + 1);
-    for (uint32_t v = 0; v < num_base; ++v) {
-      identity.indices.push_back(v);
-      identity.weights.push_back(1.0);
-      identity.offsets[v + 1] = v + 1;
+  // Row r of the table is output vertex selection.vertices[r]: as a control vertex (level 0
+  // without the limit), its refinement row, its limit row, or an edge child's limit.
+  const std::vector<uint32_t>& output = selection.vertices;
+  const uint32_t nv = mesh.num_vertices();
+  auto output_row = [&](size_t r, ComposeScratch& s) {
+    const uint32_t v = output[r];
+    if (!refine_once && !options.to_limit) {
+      s.row_indices.push_back(v);
+      s.row_weights.push_back(1.0);
+    } else if (!refine_once) {
+      AppendLimitRow(mesh, v, s.row_indices, s.row_weights);
+    } else if (!options.to_limit) {
+      AppendRefinementRow(mesh, v, s.row_indices, s.row_weights);
+    } else if (v < nv) {
+      AppendLimitRow(mesh, v, s.row_indices, s.row_weights);  // the parent's limit
+    } else {
+      AppendEdgeChildLimitMask(mesh, v - nv, s.row_indices, s.row_weights);
+      s.MergeRow(nv, static_cast<uint32_t>(r));
     }
-    Compose(options.threads, num_rows, RowsOf{identity, &selection.vertices}, nullptr, num_base, plan.vertex_map, table.offsets,
-            table.indices, table.weights);
-  } else if (!refine_once) {
-    const SparseRows limit = LimitMasks(mesh);
-    Compose(options.threads, num_rows, RowsOf{limit, &selection.vertices}, nullptr, num_base, plan.vertex_map, table.offsets,
-            table.indices, table.weights);
-  } else if (!options.to_limit) {
-    const SparseRows masks = RefinementMasks(mesh);
-    Compose(options.threads, num_rows, RowsOf{masks, &selection.vertices}, previous, num_base, plan.vertex_map, table.offsets,
-            table.indices, table.weights);
-  } else {
-    const SparseRows masks = RefinementMasks(mesh);
-    const SparseRows limit = LimitMasks(mesh);
-    const uint32_t nv = mesh.num_vertices();
-    auto limit_row = [&](size_t r, ComposeScratch& s) {
-      const uint32_t v = selection.vertices[r];
-      if (v < nv) {
-        for (uint32_t k = limit.offsets[v]; k < limit.offsets[v + 1]; ++k) {
-          s.row_indices.push_back(limit.indices[k]);
-          s.row_weights.push_back(limit.weights[k]);
-        }
-      } else {
-        AppendEdgeChildLimitMask(mesh, masks, v - nv, s.row_indices, s.row_weights);
-        s.MergeRow(nv, static_cast<uint32_t>(r));
-      }
-    };
-    Compose(options.threads, num_rows, limit_row, previous, num_base, plan.vertex_map, table.offsets, table.indices,
-            table.weights);
-  }
+  };
+  Compose(options.threads, num_rows, output_row, previous, num_base, plan.vertex_map,
+          table.offsets, table.indices, table.weights);
   if (whole) {
     stencils = SparseRows();  // the previous level's: used by the table only
     selection = SelectOutput(plan, mesh, refine_once, options.levels);

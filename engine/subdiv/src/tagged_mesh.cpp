@@ -511,17 +511,49 @@ int EdgeChildLimitRing(const TaggedMesh& mesh, uint32_t e, uint32_t children[7],
   return n;
 }
 
-void AppendEdgeChildLimitMask(const TaggedMesh& mesh, const SparseRows& refinement, uint32_t e,
-                              std::vector<uint32_t>& indices, std::vector<double>& weights) {
+namespace {
+
+// Appends a row's terms, each times scale, to (indices, weights): the terms RefinementMasks
+// or LimitMasks store, in their order (weights of exactly 0 are dropped, as Push does).
+struct AppendRows {
+  std::vector<uint32_t>& indices;
+  std::vector<double>& weights;
+  double scale = 1.0;
+  void Add(uint32_t index, double weight) {
+    if (weight == 0) return;
+    indices.push_back(index);
+    weights.push_back(scale * weight);
+  }
+  void EndRow() {}
+};
+
+}  // namespace
+
+void AppendRefinementRow(const TaggedMesh& mesh, size_t row, std::vector<uint32_t>& indices,
+                         std::vector<double>& weights, double scale) {
+  AppendRows sink{indices, weights, scale};
+  const uint32_t nv = mesh.num_vertices();
+  if (row < nv) {
+    VertexRows(mesh, static_cast<uint32_t>(row), static_cast<uint32_t>(row) + 1, rules::SmoothVertexRule,
+               rules::CreaseVertexRule, sink);
+  } else {
+    EdgeRows(mesh, row - nv, row - nv + 1, sink);
+  }
+}
+
+void AppendLimitRow(const TaggedMesh& mesh, uint32_t v, std::vector<uint32_t>& indices, std::vector<double>& weights) {
+  AppendRows sink{indices, weights};
+  VertexRows(mesh, v, v + 1, rules::SmoothLimitRule, rules::CreaseLimitRule, sink);
+}
+
+void AppendEdgeChildLimitMask(const TaggedMesh& mesh, uint32_t e, std::vector<uint32_t>& indices,
+                              std::vector<double>& weights) {
   uint32_t children[7];
   double lambda[7];
   const int n = EdgeChildLimitRing(mesh, e, children, lambda);
   for (int k = 0; k < n; ++k) {
     if (lambda[k] == 0) continue;
-    for (uint32_t j = refinement.offsets[children[k]]; j < refinement.offsets[children[k] + 1]; ++j) {
-      indices.push_back(refinement.indices[j]);
-      weights.push_back(lambda[k] * refinement.weights[j]);
-    }
+    AppendRefinementRow(mesh, children[k], indices, weights, lambda[k]);
   }
 }
 

@@ -126,13 +126,22 @@ SparseRows LimitMasks(const TaggedMesh& mesh);
 void ApplyRefinementRows(const TaggedMesh& mesh, const double* values, size_t begin, size_t end, double* out);
 void ApplyLimitRows(const TaggedMesh& mesh, const double* values, uint32_t begin, uint32_t end, double* out);
 
+// Row `row` of RefinementMasks(mesh), each weight times scale, and row v of LimitMasks(mesh),
+// appended to (indices, weights) without building the masks: the same entries in the same
+// order as the built rows (BuildLimitSurface composes rows this way, so that no level's
+// masks are held in memory).
+void AppendRefinementRow(const TaggedMesh& mesh, size_t row, std::vector<uint32_t>& indices,
+                         std::vector<double>& weights, double scale = 1.0);
+void AppendLimitRow(const TaggedMesh& mesh, uint32_t v, std::vector<uint32_t>& indices, std::vector<double>& weights);
+
 // The limit position of the child of edge e (vertex num_vertices + e of mesh.Refine()) as
 // a combination of mesh's vertices, without building the next level: the limit mask of
-// the child's one-ring there, each ring vertex taken through its refinement row
-// (refinement = RefinementMasks(mesh)). Entries are appended to (indices, weights) and may
-// repeat an index. (A vertex child's limit is the limit of its parent: LimitMasks(mesh).)
-void AppendEdgeChildLimitMask(const TaggedMesh& mesh, const SparseRows& refinement, uint32_t e,
-                              std::vector<uint32_t>& indices, std::vector<double>& weights);
+// the child's one-ring there (EdgeChildLimitRing), each ring vertex taken through its
+// refinement row (AppendRefinementRow, times its ring weight). Entries are appended to
+// (indices, weights) and may repeat an index. (A vertex child's limit is the limit of its
+// parent: AppendLimitRow.)
+void AppendEdgeChildLimitMask(const TaggedMesh& mesh, uint32_t e, std::vector<uint32_t>& indices,
+                              std::vector<double>& weights);
 
 // The same limit as a combination of the next level's vertices (the child's one-ring
 // there, numbered as in mesh.Refine(): vertex children first, then edge children): at most
