@@ -13,6 +13,7 @@
 #include "sdvi/color_fit.h"
 
 #include "parallel.h"
+#include "permuted_ic.h"
 
 #include <Eigen/Sparse>
 #include <Eigen/IterativeLinearSolvers>
@@ -170,8 +171,10 @@ StatusOr<Eigen::MatrixXd> SolveNormalEquations(const Eigen::SparseMatrix<double>
     guess(i, 1) = finite ? v.g : 0.0;
     guess(i, 2) = finite ? v.b : 0.0;
   }
+  // The preconditioner is Eigen's IncompleteCholesky<double> bit for bit, computed with
+  // less memory (PermutedIncompleteCholesky).
   Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper,
-                           Eigen::IncompleteCholesky<double>>
+                           fit_internal::PermutedIncompleteCholesky>
       cg;
   cg.setTolerance(kSolveTolerance);
   cg.setMaxIterations(kSolveMaxIterations);
@@ -263,28 +266,9 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
     return Status(StatusCode::kInternal,
                   "colour fit: limit surface tables disagree (parents, stencil rows, controls)");
   }
-
-  // Domain samples grouped by fine triangle (stable: pixel order inside a triangle).
-  const std::vector<PixelSample>& samples = fit.coverage.samples;
-  std::vector<uint32_t> sample_offsets(num_fine_tris + 1, 0);
-  std::vector<uint8_t> use(samples.size(), 0);
-  for (size_t q = 0; q < samples.size(); ++q) {
-    const PixelSample& sm = samples[q];
-    if (sm.triangle >= num_fine_tris || sm.pixel >= uint64_t(width) * height) continue;
-    if (!InDomain(target, mask, int(sm.pixel % width), int(sm.pixel / width))) continue;
-    use[q] = 1;
-    ++sample_offsets[sm.triangle + 1];
-  }
-  for (size_t t = 0; t < num_fine_tris; ++t) sample_offsets[t + 1] += sample_offsets[t];
-  fit.domain_pixels = sample_offsets[num_fine_tris];
-  std::vector<uint32_t> sample_order(fit.domain_pixels);
-  {
-    std::vector<uint32_t> cursor(sample_offsets.begin(), sample_offsets.end() - 1);
-    for (size_t q = 0; q < samples.size(); ++q) {
-      if (use[q]) sample_order[cursor[samples[q].triangle]++] = uint32_t(q);
-    }
-  }
-  std::vector<uint8_t>().swap(use);
+  // The fine vertices were needed by the coverage only; they are evaluated again with the
+  // fitted colours after the solve (less memory in the assembly and the solve).
+  std::vector<Vertex>().swap(fit.fine);
 
   // Fine triangles grouped by control triangle.
   IndexSets fine_of_control;
@@ -343,9 +327,12 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
   }
 
   // Sparsity pattern of A (symmetric, full): row i holds every j sharing some U_T with i.
-  std::vector<int> row_start(num_control + 1, 0);
-  std::vector<int> columns;
+  // A is assembled in place in the solver's matrix (column-major; A is symmetric, so its
+  // row-major pattern read as column-major is the same matrix): no second copy is held.
+  Eigen::SparseMatrix<double> matrix{Eigen::Index(num_control), Eigen::Index(num_control)};
   {
+    std::vector<int> pattern_starts(num_control + 1, 0);
+    std::vector<int> pattern_columns;
     IndexSets tris_of_control;
     tris_of_control.offsets.assign(num_control + 1, 0);
     for (uint32_t c : support.items) ++tris_of_control.offsets[c + 1];
@@ -373,16 +360,47 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
       }
       for (int c : row) seen[c] = 0;
       std::sort(row.begin(), row.end());
-      columns.insert(columns.end(), row.begin(), row.end());
-      row_start[i + 1] = int(columns.size());
+      pattern_columns.insert(pattern_columns.end(), row.begin(), row.end());
+      pattern_starts[i + 1] = int(pattern_columns.size());
+    }
+    std::vector<uint8_t>().swap(seen);
+    tris_of_control = IndexSets();
+    matrix.resizeNonZeros(Eigen::Index(pattern_columns.size()));
+    std::copy(pattern_starts.begin(), pattern_starts.end(), matrix.outerIndexPtr());
+    std::copy(pattern_columns.begin(), pattern_columns.end(), matrix.innerIndexPtr());
+  }
+  const int* row_start = matrix.outerIndexPtr();
+  const int* columns = matrix.innerIndexPtr();
+  double* values = matrix.valuePtr();
+  std::fill(values, values + matrix.nonZeros(), 0.0);
+  // Domain samples grouped by fine triangle (stable: pixel order inside a triangle); after
+  // the pattern, so that they are not held beside its scratch (less peak memory).
+  const std::vector<PixelSample>& samples = fit.coverage.samples;
+  std::vector<uint32_t> sample_offsets(num_fine_tris + 1, 0);
+  std::vector<uint8_t> use(samples.size(), 0);
+  for (size_t q = 0; q < samples.size(); ++q) {
+    const PixelSample& sm = samples[q];
+    if (sm.triangle >= num_fine_tris || sm.pixel >= uint64_t(width) * height) continue;
+    if (!InDomain(target, mask, int(sm.pixel % width), int(sm.pixel / width))) continue;
+    use[q] = 1;
+    ++sample_offsets[sm.triangle + 1];
+  }
+  for (size_t t = 0; t < num_fine_tris; ++t) sample_offsets[t + 1] += sample_offsets[t];
+  fit.domain_pixels = sample_offsets[num_fine_tris];
+  std::vector<uint32_t> sample_order(fit.domain_pixels);
+  {
+    std::vector<uint32_t> cursor(sample_offsets.begin(), sample_offsets.end() - 1);
+    for (size_t q = 0; q < samples.size(); ++q) {
+      if (use[q]) sample_order[cursor[samples[q].triangle]++] = uint32_t(q);
     }
   }
-  std::vector<double> values(columns.size(), 0.0);
+  std::vector<uint8_t>().swap(use);
+
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(Eigen::Index(num_control), 3);
   auto position = [&](uint32_t row, uint32_t col) {
-    const int* b = columns.data() + row_start[row];
-    const int* e = columns.data() + row_start[row + 1];
-    return size_t(std::lower_bound(b, e, int(col)) - columns.data());
+    const int* b = columns + row_start[row];
+    const int* e = columns + row_start[row + 1];
+    return size_t(std::lower_bound(b, e, int(col)) - columns);
   };
 
   // Blocks in parallel per batch, scattered serially in triangle order.
@@ -494,16 +512,6 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
   fit.seconds_assemble = SecondsSince(start);
 
   start = Clock::now();
-  Eigen::SparseMatrix<double> matrix;
-  {
-    const Eigen::Index n = Eigen::Index(num_control);
-    const Eigen::Index nnz = Eigen::Index(columns.size());
-    Eigen::Map<const Eigen::SparseMatrix<double>> view(n, n, nnz, row_start.data(),
-                                                       columns.data(), values.data());
-    matrix = view;  // symmetric: the row-major pattern read as column-major is the same matrix
-  }
-  std::vector<int>().swap(columns);
-  std::vector<double>().swap(values);
   if (!options.warm_start) {
     // Start from the target under each vertex (nearest pixel), whatever the entry colours.
     for (Vertex& v : image.vertices) {
