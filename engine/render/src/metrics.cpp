@@ -40,7 +40,7 @@ struct SsimSum {
   double sum = 0;
   uint64_t count = 0;
 };
-SsimSum ChannelSsim(const std::vector<double>& x, const std::vector<double>& y,
+SsimSum ChannelSsim(const std::vector<float>& x, const std::vector<float>& y,
                     const std::vector<uint8_t>& mask, int w, int h, int threads) {
   const auto g = GaussianWindow();
   constexpr int kWin = 2 * kRadius + 1;
@@ -145,13 +145,14 @@ StatusOr<ImageMetrics> CompareImages(const Raster& reconstruction, const Raster&
   const int nchan = grey ? 1 : 3;
   double sq = 0, abs_sum = 0, ssim_sum = 0;
   uint64_t ssim_count = 0;
-  std::vector<double> xa(npix), xb(npix);
+  // One channel of each image, as the rasters' floats (exact; every sum is in double).
+  std::vector<float> xa(npix), xb(npix);
   for (int c = 0; c < nchan; ++c) {
     for (size_t p = 0; p < npix; ++p) {
-      xa[p] = ColourAt(a, p, c);
-      xb[p] = ColourAt(b, p, c);
+      xa[p] = float(ColourAt(a, p, c));
+      xb[p] = float(ColourAt(b, p, c));
       if (!mask[p]) continue;
-      const double d = xa[p] - xb[p];
+      const double d = double(xa[p]) - double(xb[p]);
       sq += d * d;
       abs_sum += std::abs(d);
     }
