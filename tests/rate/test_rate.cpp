@@ -101,6 +101,7 @@ TEST_CASE("without the search the file is v1's conservative Draco file, byte for
   REQUIRE(r.ok());
   sdvi::CompressOptions v1;
   v1.reference_mse = Mse(v.report.psnr);
+  v1.color_coding = options.color_coding;  // the smallest coding (which may stream positions, payload 1.4)
   auto expected = sdvi::EncodeImage(v.image, &v1);
   REQUIRE(expected.ok());
   CHECK(r->file == *expected);
@@ -154,6 +155,7 @@ TEST_CASE("the RD search never ends at a higher Lagrangian cost than its start",
   sdvi::CompressOptions chosen;
   chosen.position_bits = best->position_bits;
   chosen.color_bits = best->color_bits;
+  chosen.color_coding = search.color_coding;
   sdvi::Image image = v.image;
   if (best->mended_vertices > 0) {  // plain rounding folds at these bits: the mended grid
     auto mended = sdvi::SnapPositionsToGrid(v.image, chosen.position_bits);
