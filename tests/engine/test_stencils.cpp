@@ -258,24 +258,21 @@ TEST_CASE("Mask rows computed on the fly equal the built masks, and the table th
     const SparseRows limit = LimitMasks(mesh);
     std::vector<uint32_t> indices;
     std::vector<double> weights;
-    for (size_t r = 0; r < masks.rows(); ++r) {
-      indices.clear();
-      weights.clear();
-      AppendRefinementRow(mesh, r, indices, weights);
-      REQUIRE(indices == std::vector<uint32_t>(masks.indices.begin() + masks.offsets[r],
-                                               masks.indices.begin() + masks.offsets[r + 1]));
-      REQUIRE(weights == std::vector<double>(masks.weights.begin() + masks.offsets[r],
-                                             masks.weights.begin() + masks.offsets[r + 1]));
-    }
-    for (uint32_t v = 0; v < mesh.num_vertices(); ++v) {
-      indices.clear();
-      weights.clear();
-      AppendLimitRow(mesh, v, indices, weights);
-      REQUIRE(indices == std::vector<uint32_t>(limit.indices.begin() + limit.offsets[v],
-                                               limit.indices.begin() + limit.offsets[v + 1]));
-      REQUIRE(weights == std::vector<double>(limit.weights.begin() + limit.offsets[v],
-                                             limit.weights.begin() + limit.offsets[v + 1]));
-    }
+    // Row r of `built` equals what `append(mesh, r, indices, weights)` computes.
+    auto require_rows = [&](const SparseRows& built, auto append) {
+      for (size_t r = 0; r < built.rows(); ++r) {
+        indices.clear();
+        weights.clear();
+        append(mesh, r, indices, weights);
+        REQUIRE(indices == std::vector<uint32_t>(built.indices.begin() + built.offsets[r],
+                                                 built.indices.begin() + built.offsets[r + 1]));
+        REQUIRE(weights == std::vector<double>(built.weights.begin() + built.offsets[r],
+                                               built.weights.begin() + built.offsets[r + 1]));
+      }
+    };
+    REQUIRE(limit.rows() == mesh.num_vertices());
+    require_rows(masks, [](const TaggedMesh& m, size_t r, auto& i, auto& w) { AppendRefinementRow(m, r, i, w); });
+    require_rows(limit, [](const TaggedMesh& m, size_t r, auto& i, auto& w) { AppendLimitRow(m, uint32_t(r), i, w); });
     // The level's table from the built masks: vertex children take their parent's limit
     // row, edge children the limit over their one-ring of refinement rows, repeated
     // columns merged first (in order of first appearance, summed in order).

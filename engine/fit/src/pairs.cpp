@@ -543,15 +543,16 @@ std::vector<bool> BadSegments(const std::vector<const PlacedPolyline*>& lines, c
     const bool touching = SegmentDistance(a, b, c, d) < kTouch;
     for (size_t j = 0; j < junctions->size(); ++j) {
       const Junction& x = (*junctions)[j];
+      if (x.line != k.line || x.polyline != polyline) continue;
       // A junction at a vertex of this placed segment explains its touching the candidate.
       const bool at_end = (x.vertex >= 0 && (x.vertex == placed_segment || x.vertex == (placed_segment + 1) % pm)) ||
                           (x.candidate_vertex >= 0 &&
                            (x.candidate_vertex == k.segment || x.candidate_vertex == (k.segment + 1) % m));
       // Touching is explained only where the junction lies on the candidate segment: a
       // segment beside it that comes back onto the placed one crosses it a second time.
-      if (x.line == k.line && x.polyline == polyline &&
-          (!touching || (at_end && PointSegmentDistance(x.at, a, b) < kTouch)) &&
-          PointSegmentDistance(x.at, a, b) < x.radius && DistanceOutsideDisc(a, b, c, d, x.at, x.radius) >= clearance)
+      const double from_candidate = PointSegmentDistance(x.at, a, b);
+      if ((!touching || (at_end && from_candidate < kTouch)) && from_candidate < x.radius &&
+          DistanceOutsideDisc(a, b, c, d, x.at, x.radius) >= clearance)
         k.junctions.push_back(j);
     }
     if (k.junctions.empty()) bad[size_t(k.segment)] = true;
