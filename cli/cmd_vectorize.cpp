@@ -35,7 +35,8 @@ nlohmann::json ReportJson(const std::string& input, const std::string& output, c
     history.push_back({{"vertices", it.vertices},
                        {"triangles", it.triangles},
                        {"added_samples", it.added_samples},
-                       {"psnr_db", it.psnr}});
+                       {"psnr_db", it.psnr},
+                       {"time_s", it.seconds.total}});
   }
   return {{"input", input},
           {"output", output},
@@ -58,6 +59,7 @@ nlohmann::json ReportJson(const std::string& input, const std::string& output, c
            {{"load", s.load},
             {"features", s.features},
             {"triangulate", s.triangulate},
+            {"flips", s.flips},
             {"limit_surface", s.surface},
             {"coverage", s.coverage},
             {"assemble", s.assemble},

@@ -143,6 +143,7 @@ void PrintPhases(const sdvi::VectorizeReport& r) {
   std::printf("| phase | seconds |\n|---|---|\n");
   const std::pair<const char*, double> rows[] = {
       {"features (DetectFeatures)", s.features},     {"triangulate (BuildControlMesh)", s.triangulate},
+      {"flips (FlipEdgesToData)", s.flips},
       {"limit surface + evaluate", s.surface},       {"coverage (MapPixels)", s.coverage},
       {"assemble normal equations", s.assemble},     {"solve (colour CG)", s.solve},
       {"refine (error map, selection)", s.refine},   {"metrics (Render + Compare)", s.metrics},
@@ -166,6 +167,9 @@ struct ScaleRun {
   uint32_t vertices = 0, triangles = 0;
   double psnr = 0;
   uint64_t mesh_hash = 0;  // FNV-1a of the vertices' and triangles' bytes
+  static constexpr int kMaxRounds = 16;
+  int rounds = 0;  // fits (history entries), at most kMaxRounds kept
+  sdvi::VectorizeIteration history[kMaxRounds];
 };
 
 uint64_t HashBytes(uint64_t h, const void* data, size_t size) {
@@ -196,6 +200,8 @@ ScaleRun RunScaleChild(const std::string& path, int threads) {
         r.vertices = result->report.vertices;
         r.triangles = result->report.triangles;
         r.psnr = result->report.psnr;
+        r.rounds = int(std::min<size_t>(ScaleRun::kMaxRounds, result->report.history.size()));
+        std::copy_n(result->report.history.begin(), r.rounds, r.history);
         const sdvi::Image& m = result->image;
         r.mesh_hash = HashBytes(1469598103934665603ull, m.vertices.data(), m.vertices.size() * sizeof(sdvi::Vertex));
         r.mesh_hash = HashBytes(r.mesh_hash, m.triangles.data(), m.triangles.size() * sizeof(sdvi::Triangle));
@@ -226,9 +232,9 @@ ScaleRun RunScaleChild(const std::string& path, int threads) {
 // --scale: the table of the large-image runs.
 void PrintScale(const Config& c) {
   std::printf("## Large images as they are, default budget, one child process per run\n\n");
-  std::printf("| image | threads | wall s | CPU s | features | triangulate + flips | surface | coverage | "
+  std::printf("| image | threads | wall s | CPU s | features | triangulate | flips | surface | coverage | "
               "assemble | solve | refine | metrics | peak RSS MiB | vertices | PSNR dB | same mesh |\n"
-              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const std::string& path : c.scale) {
     std::vector<ScaleRun> runs;
     for (int threads : c.scale_threads) {
@@ -239,12 +245,25 @@ void PrintScale(const Config& c) {
         continue;
       }
       const sdvi::VectorizeTimings& t = r.seconds;
-      std::printf("| %s %dx%d | %d | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.0f | %u | "
-                  "%.2f | %s |\n",
+      std::printf("| %s %dx%d | %d | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.0f | "
+                  "%u | %.2f | %s |\n",
                   ShortName(path).c_str(), r.width, r.height, threads, r.wall, r.cpu, t.features, t.triangulate,
-                  t.surface, t.coverage, t.assemble, t.solve, t.refine, t.metrics, r.peak_mib, r.vertices, r.psnr,
+                  t.flips, t.surface, t.coverage, t.assemble, t.solve, t.refine, t.metrics, r.peak_mib, r.vertices, r.psnr,
                   runs.size() == 1 ? "-" : (runs[0].ok && r.mesh_hash == runs[0].mesh_hash ? "yes" : "NO"));
       std::fflush(stdout);
+    }
+    for (size_t k = 0; k < runs.size(); ++k) {
+      if (!runs[k].ok) continue;
+      std::printf("\n%s, %d threads, per round (wall s):\n\n| round | vertices | added | triangulate | flips | "
+                  "surface | coverage | assemble | solve | refine | total |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
+                  ShortName(path).c_str(), c.scale_threads[k]);
+      for (int i = 0; i < runs[k].rounds; ++i) {
+        const sdvi::VectorizeIteration& it = runs[k].history[i];
+        const sdvi::VectorizeTimings& t = it.seconds;
+        std::printf("| %d | %u | %u | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f |\n", i, it.vertices,
+                    it.added_samples, t.triangulate, t.flips, t.surface, t.coverage, t.assemble, t.solve, t.refine,
+                    t.total);
+      }
     }
     for (size_t k = 1; k < runs.size(); ++k) {
       if (!runs[0].ok || !runs[k].ok) continue;

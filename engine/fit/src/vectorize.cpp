@@ -86,6 +86,22 @@ void AddFitTimes(const ColorFit& fit, VectorizeTimings& t) {
   t.solve += fit.seconds_solve;
 }
 
+// The phases' seconds between two snapshots of the running sums (a round's share); total is
+// their sum.
+VectorizeTimings RoundSeconds(const VectorizeTimings& now, const VectorizeTimings& before) {
+  VectorizeTimings d;
+  d.features = now.features - before.features;
+  d.triangulate = now.triangulate - before.triangulate;
+  d.flips = now.flips - before.flips;
+  d.surface = now.surface - before.surface;
+  d.coverage = now.coverage - before.coverage;
+  d.assemble = now.assemble - before.assemble;
+  d.solve = now.solve - before.solve;
+  d.refine = now.refine - before.refine;
+  d.total = d.features + d.triangulate + d.flips + d.surface + d.coverage + d.assemble + d.solve + d.refine;
+  return d;
+}
+
 // The colour fit's starting point (its conjugate gradients start from the vertices'
 // colours): a vertex at the position of one of previous's vertices keeps that vertex's
 // fitted colour, any other takes the raster's colour at its nearest pixel.
@@ -257,9 +273,11 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
       mesh_options.max_edge *= 2;
     }
   }
+  seconds.triangulate += SecondsSince(start);
+  start = Clock::now();
   FlipEdgesToData(mesh, raster, mask, options.flip_passes, options.flip_min_angle, options.threads,
                   &flip_cache);
-  seconds.triangulate += SecondsSince(start);
+  seconds.flips += SecondsSince(start);
   std::vector<uint8_t>().swap(blocked);  // the initial samples' map: not needed by the fit
 
   ColorFitOptions fit_options = options.fit;
@@ -271,8 +289,8 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
   SDVI_ASSIGN_OR_RETURN(ColorFit fit, FitColors(mesh, raster, mask, fit_options, &fit_buffers));
   AddFitTimes(fit, seconds);
   double psnr = PsnrOf(fit.sum_squared_error, fit.domain_pixels);
-  report.history.push_back(
-      {uint32_t(mesh.vertices.size()), uint32_t(mesh.triangles.size()), uint32_t(samples.size()), psnr});
+  report.history.push_back({uint32_t(mesh.vertices.size()), uint32_t(mesh.triangles.size()),
+                            uint32_t(samples.size()), psnr, RoundSeconds(seconds, VectorizeTimings())});
   if (progress != nullptr) {
     progress->Update(1.0, std::to_string(mesh.triangles.size()) + " triangles, " +
                               std::to_string(psnr).substr(0, 5) + " dB");
@@ -297,6 +315,7 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
         size_t(std::min(room, std::max(64.0, options.growth * double(mesh.vertices.size()))));
 
     phase("refine " + std::to_string(round));
+    const VectorizeTimings round_start = seconds;
     start = Clock::now();
     std::vector<float> error =
         ErrorMap(fit, raster, mask, options.error_blur_sigma, options.threads);
@@ -348,10 +367,12 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
       const double keep = grown > 0 ? 0.95 * double(added.size()) * std::max(0.0, allowed) / grown : 0;
       added.resize(std::min(added.size() - 1, size_t(keep)));
     }
-    if (accepted) FlipEdgesToData(candidate, raster, mask, options.flip_passes, options.flip_min_angle,
-                                  options.threads, &flip_cache);
     seconds.triangulate += SecondsSince(start);
     if (!accepted) break;
+    start = Clock::now();
+    FlipEdgesToData(candidate, raster, mask, options.flip_passes, options.flip_min_angle, options.threads,
+                    &flip_cache);
+    seconds.flips += SecondsSince(start);
 
     phase("fit " + std::to_string(round));
     SeedColors(candidate, raster, &mesh);
@@ -363,7 +384,7 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
     psnr = PsnrOf(fit.sum_squared_error, fit.domain_pixels);
     report.iterations = round;
     report.history.push_back({uint32_t(mesh.vertices.size()), uint32_t(mesh.triangles.size()),
-                              uint32_t(added.size()), psnr});
+                              uint32_t(added.size()), psnr, RoundSeconds(seconds, round_start)});
     if (progress != nullptr) {
       progress->Update(1.0, std::to_string(mesh.triangles.size()) + " triangles, " +
                                 std::to_string(psnr).substr(0, 5) + " dB");

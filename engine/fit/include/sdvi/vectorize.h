@@ -95,6 +95,7 @@ struct VectorizeTimings {
   double load = 0;          // filled by callers that load the file
   double features = 0;      // DetectFeatures
   double triangulate = 0;   // BuildControlMesh
+  double flips = 0;         // FlipEdgesToData
   double surface = 0;       // BuildLimitSurface + EvaluateSurface (inside the fit)
   double coverage = 0;      // MapPixels (inside the fit)
   double assemble = 0;      // normal equations (inside the fit)
@@ -108,6 +109,8 @@ struct VectorizeIteration {
   uint32_t vertices = 0, triangles = 0;
   uint32_t added_samples = 0;  // samples added before this fit
   double psnr = 0;             // of the fit's reconstruction
+  VectorizeTimings seconds;    // this round's share of the phases (refine: the error map and
+                               // selection before it; total: the round's sum)
 };
 
 // The paper's Table I fields for one result.
