@@ -82,12 +82,12 @@ TEST_CASE("RoundTo8Bit rounds colours to 0..255 integers and alpha to 1/255 step
 TEST_CASE("SlopeFromHistory takes the last round that grew the mesh by 5%", "[rate]") {
   sdvi::VectorizeReport report;
   CHECK(sdvi::SlopeFromHistory(report) == 4.0);
-  report.history = {{100, 0, 0, 20.0}, {200, 0, 0, 23.0}, {205, 0, 0, 23.1}};
+  report.history = {{100, 0, 0, 20.0, {}}, {200, 0, 0, 23.0, {}}, {205, 0, 0, 23.1, {}}};
   // 205 / 200 < 1.05: the slope is that of 100 -> 200 vertices.
   CHECK(sdvi::SlopeFromHistory(report) == Approx(3.0 / std::log(2.0)));
-  report.history = {{100, 0, 0, 20.0}, {110, 0, 0, 30.0}};
+  report.history = {{100, 0, 0, 20.0, {}}, {110, 0, 0, 30.0, {}}};
   CHECK(sdvi::SlopeFromHistory(report) == 12.0);  // clamped
-  report.history = {{100, 0, 0, 20.0}, {200, 0, 0, 19.0}};
+  report.history = {{100, 0, 0, 20.0, {}}, {200, 0, 0, 19.0, {}}};
   CHECK(sdvi::SlopeFromHistory(report) == 1.0);
 }
 
