@@ -14,6 +14,7 @@
 
 #include "parallel.h"
 #include "permuted_ic.h"
+#include "prefetch.h"
 
 #include <Eigen/Sparse>
 #include <Eigen/IterativeLinearSolvers>
@@ -64,6 +65,8 @@ struct BlockScratch {
   std::vector<double> s_weights;
 };
 
+constexpr uint32_t kNoTriangle = ~uint32_t(0);
+
 // Computes A_T = S_T^T F_T S_T (u x u, row-major) and b_T = S_T^T g_T (u x 3) for control
 // triangle t into a_out / b_out. S_T is kept sparse (a stencil row touches about half of
 // U_T); F_T and the products are dense and small.
@@ -82,6 +85,7 @@ void ComputeBlock(size_t t, const IndexSets& fine_of_control, const IndexSets& l
   double* f = scratch.f.data();
   double* g = scratch.g.data();
   bool any = false;
+  const size_t sample_count = sample_order.size();
   for (const uint32_t* ft = fine_of_control.begin(t); ft != fine_of_control.begin(t + 1); ++ft) {
     const uint32_t begin = sample_offsets[*ft], end = sample_offsets[*ft + 1];
     if (begin == end) continue;
@@ -93,6 +97,16 @@ void ComputeBlock(size_t t, const IndexSets& fine_of_control, const IndexSets& l
     }
     double m[3][3] = {}, r[3][3] = {};
     for (uint32_t q = begin; q < end; ++q) {
+      // The samples are read through sample_order, scattered over the coverage and the
+      // raster: ask for the sample, then (nearer) its raster pixel, some samples ahead
+      // (fit/src/prefetch.h).
+      if (q + fit_internal::kPrefetchFar < sample_count) {
+        __builtin_prefetch(&samples[sample_order[q + fit_internal::kPrefetchFar]]);
+      }
+      if (q + fit_internal::kPrefetchNear < sample_count) {
+        const uint32_t ahead = samples[sample_order[q + fit_internal::kPrefetchNear]].pixel;
+        __builtin_prefetch(&target.data[size_t(ahead) * size_t(target.channels)]);
+      }
       const PixelSample& sm = samples[sample_order[q]];
       const double w[3] = {sm.w0, sm.w1, sm.w2};
       double rgb[3];
@@ -378,7 +392,15 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
   const std::vector<PixelSample>& samples = fit.coverage.samples;
   std::vector<uint32_t> sample_offsets(num_fine_tris + 1, 0);
   std::vector<uint8_t> use(samples.size(), 0);
+  // Both passes count or place each sample at its fine triangle, which lies anywhere in the
+  // per-triangle arrays: the entries of samples ahead are asked for first (fit/src/prefetch.h).
+  auto triangle_ahead = [&](size_t q) {
+    return q < samples.size() && samples[q].triangle < num_fine_tris ? samples[q].triangle : kNoTriangle;
+  };
   for (size_t q = 0; q < samples.size(); ++q) {
+    if (const uint32_t t = triangle_ahead(q + fit_internal::kPrefetchFar); t != kNoTriangle) {
+      __builtin_prefetch(&sample_offsets[t + 1], 1);
+    }
     const PixelSample& sm = samples[q];
     if (sm.triangle >= num_fine_tris || sm.pixel >= uint64_t(width) * height) continue;
     if (!InDomain(target, mask, int(sm.pixel % width), int(sm.pixel / width))) continue;
@@ -391,6 +413,12 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
   {
     std::vector<uint32_t> cursor(sample_offsets.begin(), sample_offsets.end() - 1);
     for (size_t q = 0; q < samples.size(); ++q) {
+      if (const uint32_t t = triangle_ahead(q + fit_internal::kPrefetchFar); t != kNoTriangle) {
+        __builtin_prefetch(&cursor[t], 1);
+      }
+      if (const uint32_t t = triangle_ahead(q + fit_internal::kPrefetchNear); t != kNoTriangle && !sample_order.empty()) {
+        __builtin_prefetch(&sample_order[std::min<size_t>(cursor[t], sample_order.size() - 1)], 1);
+      }
       if (use[q]) sample_order[cursor[samples[q].triangle]++] = uint32_t(q);
     }
   }
@@ -540,6 +568,7 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
   fit_internal::ForEachChunk(samples.size(), kSseChunk, threads, [&](size_t chunk, size_t q0, size_t q1) {
     double sse = 0;
     for (size_t q = q0; q < q1; ++q) {
+      fit_internal::PrefetchSampleData(samples, q, q1, surface.triangles, fit.fine);
       const PixelSample& sm = samples[q];
       if (sm.triangle >= num_fine_tris || sm.pixel >= uint64_t(width) * height) continue;
       if (!whole && !InDomain(target, mask, int(sm.pixel % width), int(sm.pixel / width))) continue;

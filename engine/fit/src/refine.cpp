@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "parallel.h"
+#include "prefetch.h"
 #include "sdvi/color_fit.h"
 
 namespace sdvi {
@@ -226,6 +227,7 @@ std::vector<float> ErrorMap(const ColorFit& fit, const Raster& target, const Ras
   const std::vector<Triangle>& triangles = fit.surface.triangles;
   fit_internal::ForEachChunk(samples.size(), size_t(1) << 16, threads, [&](size_t, size_t q0, size_t q1) {
     for (size_t q = q0; q < q1; ++q) {
+      fit_internal::PrefetchSampleData(samples, q, q1, triangles, fit.fine);
       const PixelSample& sm = samples[q];
       if (sm.pixel >= pixels || sm.triangle >= triangles.size()) continue;
       const int x = int(sm.pixel % width), y = int(sm.pixel / width);
