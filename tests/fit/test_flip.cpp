@@ -197,3 +197,42 @@ TEST_CASE("vectorize edge flips leave a flat image's triangulation alone", "[vec
   CHECK(sdvi::FlipEdgesToData(mesh, raster, nullptr, 16, 1.0, 2) == 0);
   CHECK(mesh.triangles == built.triangles);
 }
+
+TEST_CASE("the flip error cache finds exactly what the last call recorded", "[vectorize][flip]") {
+  // Keys as FlipEdgesToData makes them (float bits of three positions), many sharing words so
+  // that the hash table's probes collide; errors 0 and positive; every key recorded twice.
+  auto key_of = [](uint32_t i) {
+    std::array<uint32_t, 6> key;
+    for (uint32_t k = 0; k < 6; ++k) key[k] = 0x42000000u + (i >> (k % 3)) + k * 7;
+    return key;
+  };
+  auto error_of = [](uint32_t i) { return i % 5 == 0 ? 0.0 : 0.25 * double(i); };
+  sdvi::FlipErrorCache cache;
+  CHECK(cache.Find(key_of(1)) == nullptr);  // nothing before the first call ends
+  std::map<std::array<uint32_t, 6>, double> recorded;
+  for (int copy = 0; copy < 2; ++copy) {
+    for (uint32_t i = 0; i < 20000; ++i) {
+      cache.Add(key_of(i), error_of(i));
+      recorded.emplace(key_of(i), error_of(i));
+    }
+  }
+  CHECK(cache.Find(key_of(1)) == nullptr);  // recorded, not yet ended
+  cache.EndCall();
+  CHECK(cache.size() == recorded.size());
+  for (const auto& [key, error] : recorded) {
+    const double* found = cache.Find(key);
+    REQUIRE(found != nullptr);
+    CHECK(*found == error);
+  }
+  CHECK(cache.hits() == recorded.size());
+  for (uint32_t i = 20000; i < 25000; ++i) {
+    if (recorded.count(key_of(i)) == 0) CHECK(cache.Find(key_of(i)) == nullptr);
+  }
+  // A later call replaces what an earlier one recorded.
+  cache.Add(key_of(30000), 1.5);
+  cache.EndCall();
+  CHECK(cache.size() == 1);
+  CHECK(cache.Find(key_of(0)) == nullptr);
+  REQUIRE(cache.Find(key_of(30000)) != nullptr);
+  CHECK(*cache.Find(key_of(30000)) == 1.5);
+}

@@ -104,6 +104,10 @@ std::array<uint32_t, 3> CanonicalCorners(const Image& mesh, const std::array<uin
   return {items[0][2], items[1][2], items[2][2]};
 }
 
+// How far ahead QuadError::Triangle asks for raster rows, and the most pixels of a row it
+// asks for (longer runs are streamed by the hardware once started).
+constexpr int64_t kPrefetchRows = 2, kPrefetchPixels = 48;
+
 class QuadError {
  public:
   QuadError(const Image& mesh, const Raster& raster, const Raster* mask, const std::vector<Rgb>& colour)
@@ -178,6 +182,16 @@ class QuadError {
         }
       }
       if (lo > hi) continue;
+      // The raster is read row by row, each row's run starting on lines not in cache: ask
+      // for the run kPrefetchRows rows down (this run's columns, a few pixels wider) now.
+      if (j + kPrefetchRows <= j1) {
+        const int64_t c0 = std::max(i0, lo - 4), c1 = std::min(i1, std::min(hi + 4, c0 + kPrefetchPixels));
+        const float* row = &raster_.data[size_t(j + kPrefetchRows) * size_t(raster_.width) * size_t(channels)];
+        const char* first = reinterpret_cast<const char*>(row + c0 * channels);
+        const char* last = reinterpret_cast<const char*>(row + c1 * channels + channels - 1);
+        for (const char* q = first; q < last; q += 64) __builtin_prefetch(q);
+        __builtin_prefetch(last);
+      }
       int64_t e0 = a[0] * lo + e[0], e1 = a[1] * lo + e[1];
       const float* px = &raster_.data[(size_t(j) * size_t(raster_.width) + size_t(lo)) * size_t(channels)];
       for (int64_t i = lo; i <= hi; ++i, e0 += a[0], e1 += a[1], px += channels) {
@@ -202,22 +216,52 @@ class QuadError {
 
 }  // namespace
 
+namespace {
+
+// The slot a key's probe starts at in a table of `mask + 1` slots.
+size_t CacheSlot(const std::array<uint32_t, 6>& key, size_t mask) {
+  uint64_t h = 0x9e3779b97f4a7c15ull;
+  for (uint32_t word : key) h = (h ^ word) * 0xff51afd7ed558ccdull;
+  return size_t(h ^ (h >> 29)) & mask;
+}
+
+}  // namespace
+
 const double* FlipErrorCache::Find(const std::array<uint32_t, 6>& key) const {
-  const auto it = std::lower_bound(previous_.begin(), previous_.end(), key,
-                                   [](const Entry& e, const std::array<uint32_t, 6>& k) { return e.key < k; });
-  if (it == previous_.end() || it->key != key) return nullptr;
-  hits_.fetch_add(1, std::memory_order_relaxed);
-  return &it->error;
+  if (slots_.empty()) return nullptr;
+  const size_t mask = slots_.size() - 1;
+  for (size_t i = CacheSlot(key, mask); slots_[i] != 0; i = (i + 1) & mask) {
+    const Entry& e = previous_[slots_[i] - 1];
+    if (e.key == key) {
+      hits_.fetch_add(1, std::memory_order_relaxed);
+      return &e.error;
+    }
+  }
+  return nullptr;
 }
 
 void FlipErrorCache::EndCall() {
-  std::sort(current_.begin(), current_.end(), [](const Entry& a, const Entry& b) { return a.key < b.key; });
-  current_.erase(std::unique(current_.begin(), current_.end(),
-                             [](const Entry& a, const Entry& b) { return a.key == b.key; }),
-                 current_.end());
-  previous_.swap(current_);
-  current_.clear();
+  size_t size = 16;
+  while (size < current_.size() + current_.size() / 2) size *= 2;
+  std::vector<uint32_t>().swap(slots_);  // the old table goes before the new one is made
+  previous_.clear();
+  previous_.shrink_to_fit();
+  slots_.assign(size, 0);
+  const size_t mask = size - 1;
+  // A key recorded twice has the same error both times (a function of the key): kept once,
+  // in place in current_, which becomes the entries.
+  size_t kept = 0;
+  for (size_t k = 0; k < current_.size(); ++k) {
+    const Entry entry = current_[k];
+    size_t i = CacheSlot(entry.key, mask);
+    while (slots_[i] != 0 && current_[slots_[i] - 1].key != entry.key) i = (i + 1) & mask;
+    if (slots_[i] != 0) continue;
+    current_[kept] = entry;
+    slots_[i] = uint32_t(++kept);
+  }
+  current_.resize(kept);
   current_.shrink_to_fit();
+  previous_.swap(current_);
 }
 
 int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int passes,
