@@ -11,6 +11,7 @@
 #include <unordered_map>
 
 #include "contours.h"
+#include "opencv_kernels.h"
 #include "sdvi/bspline.h"
 #include "sdvi/features.h"
 
@@ -45,6 +46,7 @@ float Bilinear(const cv::Mat& m, double x, double y) {
 }
 
 GradientField ComputeGradient(const Raster& image, double sigma) {
+  fit_internal::UseOpenCvBaselineKernels();
   GradientField g;
   g.width = image.width;
   g.height = image.height;

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "opencv_kernels.h"
 #include "parallel.h"
 #include "prefetch.h"
 #include "sdvi/color_fit.h"
@@ -167,6 +168,7 @@ namespace {
 void BlurAndMarkDomain(std::vector<float>& error, const Raster& target, const Raster* mask, double sigma) {
   const int width = target.width, height = target.height;
   if (sigma > 0) {
+    fit_internal::UseOpenCvBaselineKernels();
     cv::Mat1f view(height, width, error.data());  // no copy: blurred in place
     cv::GaussianBlur(view, view, cv::Size(0, 0), sigma, sigma, cv::BORDER_REFLECT);
   }
