@@ -111,8 +111,8 @@ void RegisterCompress(CLI::App& app, Outcome& outcome) {
   c->add_option("--speed", o.speed, "Draco speed: 0 smallest file .. 10 fastest")->check(CLI::Range(0, 10));
   c->add_option("--colors", o.color_coding,
                 "how colours are coded: rgb (R, G, B), decorrelated (L, C1, C2: smaller on most photos), smallest "
-                "(both, decorrelated predicted by the decoded neighbours' mean, and positions predicted so in the tag stream: "
-                "the smallest file) (spec/FORMAT.md 8.2, 8.7)")
+                "(both, decorrelated predicted by the decoded neighbours' mean, and positions and colours predicted so in the tag "
+                "stream: the smallest file) (spec/FORMAT.md 8.2, 8.7, 8.8)")
       ->transform(CLI::CheckedTransformer(std::map<std::string, ColorCoding>{{"rgb", ColorCoding::kRgb},
                                                                               {"decorrelated", ColorCoding::kDecorrelated},
                                                                               {"smallest", ColorCoding::kSmallest}}))

@@ -147,6 +147,7 @@ int Info(const InfoArgs& args) {
                   {"position_bits", draco->position_bits},
                   {"color_bits", draco->color_bits},
                   {"colors", draco->grey                ? "grey"
+                             : draco->stream_colors  ? "decorrelated, neighbour mean, tag stream"
                              : draco->neighbour_mean ? "decorrelated, neighbour mean"
                              : draco->decorrelated   ? "decorrelated"
                                                      : "rgb"},

@@ -17,9 +17,11 @@
 #include <draco/mesh/mesh.h>
 #include <draco/metadata/geometry_metadata.h>
 
+#include "color_stream.h"
+#include "neighbour_mean.h"
+#include "position_stream.h"
 #include "range_coder.h"
 #include "sdvi/codec.h"
-#include "position_stream.h"
 #include "tag_stream.h"
 
 namespace sdvi {
@@ -30,10 +32,10 @@ using codec_internal::MeshEdge;
 // Header layout (little-endian), 40 bytes.
 constexpr char kMagic[4] = {'S', 'D', 'R', 'C'};
 constexpr uint8_t kVersionMajor = 1;
-// Written: the lowest of 1.1 to 1.4 that allows the flags used (1.1: flag bits 3, 4 and 5
-// allowed; 1.2: bit 6 too; 1.3: bit 7 too; 1.4: the second flag byte's bit 0); read: 1.0 ..
-// 1.4 (spec/FORMAT.md 8.1).
-constexpr uint8_t kVersionMinor = 4;
+// Written: the lowest of 1.1 to 1.5 that allows the flags used (1.1: flag bits 3, 4 and 5
+// allowed; 1.2: bit 6 too; 1.3: bit 7 too; 1.4: the second flag byte's bit 0; 1.5: its bit 1);
+// read: 1.0 .. 1.5 (spec/FORMAT.md 8.1).
+constexpr uint8_t kVersionMinor = 5;
 constexpr size_t kHeaderSize = 40;
 constexpr size_t kCrcOffset = 36;
 constexpr uint8_t kFlagVertexIds = 1;     // the Draco mesh has the vertex id attribute
@@ -46,6 +48,7 @@ constexpr uint8_t kFlagFeaturesFirst = 64;  // the feature layer first, polyline
 constexpr uint8_t kFlagMeanColors = 128;    // decorrelated colours predicted by the decoded neighbours' mean
 // Header byte 10, the second flag byte (payload 1.4; reserved and 0 before).
 constexpr uint8_t kFlag2Positions = 1;  // positions in the tag stream, not in the Draco mesh (8.7)
+constexpr uint8_t kFlag2Colors = 2;     // neighbour-mean colours in the tag stream too (payload 1.5, 8.8)
 constexpr uint8_t kKnownFlags = kFlagVertexIds | kFlagFeatureLayer | kFlagGrey | kFlagDecorrelated |
                                 kFlagCompactPairs | kFlagRankedStarts | kFlagFeaturesFirst | kFlagMeanColors;
 
@@ -73,38 +76,29 @@ std::array<float, 3> FromDecorrelated(float l, float c1, float c2) {
 // coded as q minus its prediction from the points decoded before it.
 const char kMeanStepKey[] = "sdvi_colour_step";
 const char kMeanOriginKey[] = "sdvi_colour_origin";
-constexpr int64_t kMaxGridIndex = int64_t{1} << 40;
 
-// For every point (Draco's decoded order) its neighbours along the faces' edges that come
-// before it, ascending.
-std::vector<std::vector<uint32_t>> EarlierNeighbours(size_t points, const std::vector<std::array<uint32_t, 3>>& faces) {
-  std::vector<std::vector<uint32_t>> out(points);
-  for (const auto& f : faces)
-    for (int k = 0; k < 3; ++k) {
-      const uint32_t a = f[k], b = f[(k + 1) % 3];
-      if (a < b) out[b].push_back(a);
-      else if (b < a) out[a].push_back(b);
-    }
-  for (auto& n : out) {
-    std::sort(n.begin(), n.end());
-    n.erase(std::unique(n.begin(), n.end()), n.end());
+// Point p's colour from its L, C1, C2 grid indices q (each at most kMaxColorIndex in size):
+// origin + q step computed in double and rounded to float, through the inverse transform;
+// false when a float cannot hold a component.
+bool ColorFromGrid(const std::array<double, 3>& origin, double step, const std::array<int64_t, 3>& q, Vertex* p) {
+  float lcc[3];
+  for (int k = 0; k < 3; ++k) {
+    const double value = origin[k] + double(q[k]) * step;
+    if (!(std::abs(value) <= std::numeric_limits<float>::max())) return false;
+    lcc[k] = static_cast<float>(value);
   }
-  return out;
+  const std::array<float, 3> back = FromDecorrelated(lcc[0], lcc[1], lcc[2]);
+  p->r = back[0];
+  p->g = back[1];
+  p->b = back[2];
+  return true;
 }
 
-// The prediction of point p's component k: the mean of q over its earlier neighbours rounded
-// half up (floor((2 sum + c) / (2 c)) for c of them); without any, q of point p - 1; for point 0, 0.
-// The sum is taken in 128 bits: a decoded q is at most kMaxGridIndex = 2^40 in size, and a
-// hostile mesh can give one point millions of neighbours, so 64 bits could overflow. The mean
-// itself lies within the neighbours' range, so it fits 64 bits.
-int64_t MeanPrediction(const std::vector<uint32_t>& earlier, const std::vector<std::array<int64_t, 3>>& q, size_t p,
-                       int k) {
-  if (earlier.empty()) return p > 0 ? q[p - 1][k] : 0;
-  __int128 sum = 0;
-  for (uint32_t j : earlier) sum += q[j][k];
-  const __int128 c = static_cast<__int128>(earlier.size());
-  const __int128 a = 2 * sum + c, b = 2 * c;
-  return static_cast<int64_t>(a >= 0 ? a / b : -((-a + b - 1) / b));
+// The mesh edges of faces (point triples).
+std::vector<MeshEdge> FaceEdges(const std::vector<std::array<uint32_t, 3>>& faces) {
+  std::vector<Triangle> triangles(faces.size());
+  for (size_t f = 0; f < faces.size(); ++f) triangles[f].v = faces[f];
+  return codec_internal::CollectMeshEdges(triangles);
 }
 
 // How the colour attributes of a Draco mesh are laid out.
@@ -157,7 +151,7 @@ StatusOr<Header> ParseHeader(std::span<const uint8_t> payload, const std::string
   if (h.major != kVersionMajor || h.minor > kVersionMinor)
     return Status(h.major < kVersionMajor ? StatusCode::kCorrupt : StatusCode::kUnsupportedVersion,
                   what + " has version " + std::to_string(h.major) + "." +
-                      std::to_string(h.minor) + "; this build reads versions 1.0 to 1.4");
+                      std::to_string(h.minor) + "; this build reads versions 1.0 to 1.5");
   constexpr uint8_t kFlags11 = kFlagDecorrelated | kFlagCompactPairs | kFlagRankedStarts;
   constexpr uint8_t kFlagsUnderFirst = kFlagFeatureLayer | kFlagCompactPairs | kFlagRankedStarts;
   if ((h.flags & ~kKnownFlags) || (h.minor == 0 && (h.flags & kFlags11)) ||
@@ -165,8 +159,9 @@ StatusOr<Header> ParseHeader(std::span<const uint8_t> payload, const std::string
       ((h.flags & kFlagMeanColors) && (h.flags & (kFlagDecorrelated | kFlagVertexIds)) != kFlagDecorrelated) ||
       ((h.flags & (kFlagCompactPairs | kFlagRankedStarts)) && !(h.flags & kFlagFeatureLayer)) ||
       ((h.flags & kFlagFeaturesFirst) && (h.flags & kFlagsUnderFirst) != kFlagsUnderFirst) ||
-      (h.minor >= 4 && (payload[11] != 0 || (h.flags2 & ~kFlag2Positions))) ||
-      ((h.flags2 & kFlag2Positions) && (h.flags & kFlagVertexIds)))
+      (h.minor >= 4 && (payload[11] != 0 || (h.flags2 & ~(kFlag2Positions | kFlag2Colors)))) ||
+      ((h.flags2 & kFlag2Positions) && (h.flags & kFlagVertexIds)) ||
+      ((h.flags2 & kFlag2Colors) && (h.minor < 5 || !(h.flags2 & kFlag2Positions) || !(h.flags & kFlagMeanColors))))
     return Status(StatusCode::kCorrupt, what + " (version " + std::to_string(h.major) + "." +
                                             std::to_string(h.minor) + ") has unknown flags " +
                                             std::to_string(h.flags) + ", " + std::to_string(h.flags2));
@@ -200,8 +195,11 @@ bool ReadAttribute(const draco::PointAttribute* attribute, uint32_t point, T* ou
   return attribute->ConvertValue<T>(index, out);
 }
 
+// positions_outside: POSITION is (0, 0) at every point (payload 1.4); colors_outside too: the
+// mesh has no other attribute, the points' colours are left 0 (payload 1.5).
 StatusOr<DecodedMesh> DecodeDracoMesh(std::span<const uint8_t> bytes, const std::string& source,
-                                      bool decorrelated, bool mean = false, bool positions_outside = false) {
+                                      bool decorrelated, bool mean = false, bool positions_outside = false,
+                                      bool colors_outside = false) {
   const std::string what = source + ": Draco mesh";
   draco::DecoderBuffer buffer;
   buffer.Init(reinterpret_cast<const char*>(bytes.data()), bytes.size());
@@ -221,8 +219,10 @@ StatusOr<DecodedMesh> DecodeDracoMesh(std::span<const uint8_t> bytes, const std:
   if (!position || position->attribute_type() != draco::GeometryAttribute::POSITION ||
       position->num_components() != 2)
     return Status(StatusCode::kCorrupt, what + " lacks the 2-component POSITION attribute (unique id 0)");
-  if (!color || color->attribute_type() != draco::GeometryAttribute::COLOR ||
-      (color->num_components() != 3 && color->num_components() != 1))
+  if (colors_outside && mesh.num_attributes() != 1)
+    return Status(StatusCode::kCorrupt, what + " has attributes besides POSITION; its colours are in the tag stream");
+  if (!colors_outside && (!color || color->attribute_type() != draco::GeometryAttribute::COLOR ||
+      (color->num_components() != 3 && color->num_components() != 1)))
     return Status(StatusCode::kCorrupt, what + " lacks the 3- or 1-component COLOR attribute (unique id 1)");
   const draco::PointAttribute* c1 = mesh.GetAttributeByUniqueId(kC1UniqueId);
   const draco::PointAttribute* c2 = mesh.GetAttributeByUniqueId(kC2UniqueId);
@@ -253,13 +253,13 @@ StatusOr<DecodedMesh> DecodeDracoMesh(std::span<const uint8_t> bytes, const std:
              id->num_components() != 1 || id->data_type() != draco::DT_UINT32))
     return Status(StatusCode::kCorrupt, what + ": attribute unique id 2 is not a 1-component uint32 GENERIC");
   DecodedMesh out;
-  out.grey = color->num_components() == 1 && !decorrelated;
+  out.grey = !colors_outside && color->num_components() == 1 && !decorrelated;
   const uint32_t n = mesh.num_points();
   out.points.resize(n);
   if (id) out.ids.resize(n);
   for (uint32_t p = 0; p < n; ++p) {
-    float xy[2] = {0.f, 0.f}, rgb[3];
-    bool color_ok = ReadAttribute(color, p, rgb);  // 1 or 3 components
+    float xy[2] = {0.f, 0.f}, rgb[3] = {0.f, 0.f, 0.f};
+    bool color_ok = colors_outside || ReadAttribute(color, p, rgb);  // 1 or 3 components
     if (out.grey) rgb[1] = rgb[2] = rgb[0];
     if (mean) {
       int32_t r[3] = {0, 0, 0};
@@ -290,52 +290,69 @@ StatusOr<DecodedMesh> DecodeDracoMesh(std::span<const uint8_t> bytes, const std:
   }
   if (mean) {
     // The grid indices point by point from the residuals, then L, C1, C2 on the grids.
-    const auto earlier = EarlierNeighbours(n, out.faces);
+    const auto earlier = codec_internal::EarlierNeighbours(n, FaceEdges(out.faces));
     std::vector<std::array<int64_t, 3>> q(n);
+    const std::array<double, 3> origin = {mean_origin[0], mean_origin[1], mean_origin[2]};
     for (uint32_t p = 0; p < n; ++p) {
+      bool on_grid = true;
       for (int k = 0; k < 3; ++k) {
-        q[p][k] = MeanPrediction(earlier[p], q, p, k) + residuals[p][k];
-        if (std::abs(q[p][k]) > kMaxGridIndex)
-          return Status(StatusCode::kCorrupt, what + ": point " + std::to_string(p) + "'s colour lies off its grid");
+        q[p][k] = codec_internal::MeanPrediction(earlier[p], q, p, k) + residuals[p][k];
+        on_grid = on_grid && std::abs(q[p][k]) <= codec_internal::kMaxColorIndex;
       }
-      float lcc[3];
-      for (int k = 0; k < 3; ++k) {
-        const double value = mean_origin[k] + double(q[p][k]) * mean_step;
-        if (!(std::abs(value) <= std::numeric_limits<float>::max()))  // a float cannot hold it
-          return Status(StatusCode::kCorrupt, what + ": point " + std::to_string(p) + "'s colour lies off its grid");
-        lcc[k] = static_cast<float>(value);
-      }
-      const std::array<float, 3> back = FromDecorrelated(lcc[0], lcc[1], lcc[2]);
-      out.points[p].r = back[0];
-      out.points[p].g = back[1];
-      out.points[p].b = back[2];
+      if (!on_grid || !ColorFromGrid(origin, mean_step, q[p], &out.points[p]))
+        return Status(StatusCode::kCorrupt, what + ": point " + std::to_string(p) + "'s colour lies off its grid");
     }
   }
   return out;
 }
 
-// The Draco mesh of image's control mesh (no vertex ids) with neighbour-mean colours: the
-// positions, and per vertex the residuals of L, C1, C2 (their grid indices minus
-// MeanPrediction in the decoded order, where vertex i is point decoded_index[i]), the grid in
-// the metadata. Fails (kInvalidArgument) when a residual does not fit int32.
-StatusOr<std::unique_ptr<draco::Mesh>> BuildMeanColorMesh(const Image& image, const std::vector<uint32_t>& decoded_index,
-                                                          double step, bool index_positions = false) {
+// Neighbour-mean colours (payload 1.3 and 1.5): L, C1, C2 on grids of step from their minimums,
+// the indices in the decoded order (vertex i is point decoded_index[i]), and their residuals
+// (index minus MeanPrediction over the earlier neighbours in that order).
+struct MeanColors {
+  codec_internal::ColorStream grid;
+  std::vector<std::array<int32_t, 3>> residuals;  // per point
+};
+
+// Fails (kInvalidArgument) when a residual does not fit int32.
+StatusOr<MeanColors> MeanColorIndices(const Image& image, const std::vector<uint32_t>& decoded_index, double step) {
   const uint32_t n = static_cast<uint32_t>(image.vertices.size());
+  MeanColors out;
   std::vector<std::array<float, 3>> lcc(n);
-  std::array<double, 3> origin;
-  origin.fill(std::numeric_limits<double>::infinity());
+  std::array<float, 3>& origin = out.grid.origin;
+  origin.fill(std::numeric_limits<float>::infinity());
   for (uint32_t i = 0; i < n; ++i) {
     lcc[i] = ToDecorrelated(image.vertices[i]);
-    for (int k = 0; k < 3; ++k) origin[k] = std::min(origin[k], double(lcc[i][k]));
+    for (int k = 0; k < 3; ++k) origin[k] = std::min(origin[k], lcc[i][k]);
   }
-  std::vector<std::array<int64_t, 3>> q(n);  // in the decoded order
+  out.grid.step = step;
+  std::vector<std::array<int64_t, 3>>& q = out.grid.q;
+  q.resize(n);
   for (uint32_t i = 0; i < n; ++i)
-    for (int k = 0; k < 3; ++k) q[decoded_index[i]][k] = std::llround((double(lcc[i][k]) - origin[k]) / step);
+    for (int k = 0; k < 3; ++k)
+      q[decoded_index[i]][k] = std::llround((double(lcc[i][k]) - double(origin[k])) / step);
   std::vector<std::array<uint32_t, 3>> faces(image.triangles.size());
   for (size_t t = 0; t < faces.size(); ++t)
     for (int k = 0; k < 3; ++k) faces[t][k] = decoded_index[image.triangles[t].v[k]];
-  const auto earlier = EarlierNeighbours(n, faces);
+  const auto earlier = codec_internal::EarlierNeighbours(n, FaceEdges(faces));
+  out.residuals.resize(n);
+  for (uint32_t p = 0; p < n; ++p)
+    for (int k = 0; k < 3; ++k) {
+      const int64_t r = q[p][k] - codec_internal::MeanPrediction(earlier[p], q, p, k);
+      if (r < std::numeric_limits<int32_t>::min() || r > std::numeric_limits<int32_t>::max())
+        return Status(StatusCode::kInvalidArgument, "a colour residual does not fit 32 bits");
+      out.residuals[p][k] = static_cast<int32_t>(r);
+    }
+  return out;
+}
 
+// The Draco mesh of image's control mesh (no vertex ids) with neighbour-mean colours (payload
+// 1.3): the positions, and per vertex the residuals of colors (vertex i is point
+// decoded_index[i]), the grid in the metadata.
+std::unique_ptr<draco::Mesh> BuildMeanColorMesh(const Image& image, const MeanColors& colors,
+                                                const std::vector<uint32_t>& decoded_index,
+                                                bool index_positions = false) {
+  const uint32_t n = static_cast<uint32_t>(image.vertices.size());
   auto mesh = std::make_unique<draco::Mesh>();
   mesh->set_num_points(n);
   draco::GeometryAttribute position;
@@ -357,13 +374,8 @@ StatusOr<std::unique_ptr<draco::Mesh>> BuildMeanColorMesh(const Image& image, co
     const uint32_t p = decoded_index[i];
     const float zero[2] = {0.f, 0.f};
     mesh->attribute(position_id)->SetAttributeValue(draco::AttributeValueIndex(i), index_positions ? zero : xy);
-    for (int k = 0; k < 3; ++k) {
-      const int64_t r = q[p][k] - MeanPrediction(earlier[p], q, p, k);
-      if (r < std::numeric_limits<int32_t>::min() || r > std::numeric_limits<int32_t>::max())
-        return Status(StatusCode::kInvalidArgument, "a colour residual does not fit 32 bits");
-      const int32_t value = static_cast<int32_t>(r);
-      mesh->attribute(ids[k])->SetAttributeValue(draco::AttributeValueIndex(i), &value);
-    }
+    for (int k = 0; k < 3; ++k)
+      mesh->attribute(ids[k])->SetAttributeValue(draco::AttributeValueIndex(i), &colors.residuals[p][k]);
   }
   mesh->SetNumFaces(image.triangles.size());
   for (size_t t = 0; t < image.triangles.size(); ++t) {
@@ -372,7 +384,8 @@ StatusOr<std::unique_ptr<draco::Mesh>> BuildMeanColorMesh(const Image& image, co
                   {draco::PointIndex(tri[0]), draco::PointIndex(tri[1]), draco::PointIndex(tri[2])});
   }
   auto metadata = std::make_unique<draco::GeometryMetadata>();
-  metadata->AddEntryDouble(kMeanStepKey, step);
+  const auto& origin = colors.grid.origin;
+  metadata->AddEntryDouble(kMeanStepKey, colors.grid.step);
   metadata->AddEntryDoubleArray(kMeanOriginKey, std::vector<double>(origin.begin(), origin.end()));
   mesh->AddMetadata(std::move(metadata));
   return mesh;
@@ -865,8 +878,8 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
   // (the same points and faces, colours within the decorrelated bound) before it is kept.
   auto encode_mean = [&](const DracoMesh& reference) -> StatusOr<DracoMesh> {
     const std::string self = "compressed image (self-check)";
-    SDVI_ASSIGN_OR_RETURN(std::unique_ptr<draco::Mesh> mesh,
-                          BuildMeanColorMesh(image, reference.renumbering, color_step));
+    SDVI_ASSIGN_OR_RETURN(const MeanColors colors, MeanColorIndices(image, reference.renumbering, color_step));
+    const std::unique_ptr<draco::Mesh> mesh = BuildMeanColorMesh(image, colors, reference.renumbering);
     SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, EncodeMeanColorMesh(*mesh, position_bits, options.speed));
     SDVI_ASSIGN_OR_RETURN(DecodedMesh decoded, DecodeDracoMesh(bytes, self, true, true));
     const ErrorBound bound = CompressionErrorBound(image, position_bits, color_bits, true);
@@ -942,8 +955,8 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
       const std::vector<uint32_t>& order = chosen.renumbering;
       StatusOr<std::vector<uint8_t>> bytes = Status(StatusCode::kInternal, "no layout");
       if (mean_colors) {
-        StatusOr<std::unique_ptr<draco::Mesh>> mesh = BuildMeanColorMesh(image, order, color_step, true);
-        if (mesh.ok()) bytes = EncodeMeanColorMesh(**mesh, 1, options.speed);
+        StatusOr<MeanColors> colors = MeanColorIndices(image, order, color_step);
+        if (colors.ok()) bytes = EncodeMeanColorMesh(*BuildMeanColorMesh(image, *colors, order, true), 1, options.speed);
       } else {
         const ColorLayout layout = decorrelated ? ColorLayout::kDecorrelated : grey ? ColorLayout::kGrey : ColorLayout::kRgb;
         auto mesh = BuildDracoMesh(image, false, layout, &order);
@@ -995,7 +1008,7 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
       return Status(StatusCode::kLimitExceeded, "out of memory while compressing the image");
     }
   }
-  std::vector<uint8_t> draco_bytes = std::move(chosen.bytes);
+  std::vector<uint8_t> draco_bytes = chosen.bytes;
   std::vector<uint32_t> renumbering = std::move(chosen.renumbering);
   const bool with_ids = chosen.with_ids;
   if (renumbering.empty()) {
@@ -1003,31 +1016,39 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
     std::iota(renumbering.begin(), renumbering.end(), 0u);
   }
 
-  // Tags in the decoded numbering.
-  Image renumbered;
-  renumbered.vertices = image.vertices;
-  renumbered.triangles = image.triangles;
-  renumbered.crease_edges = creases;
-  renumbered.corners = corners;
-  if (options.feature_layer) {
-    renumbered.polylines = image.polylines;
-    renumbered.pairs = image.pairs;
-  }
-  SDVI_RETURN_IF_ERROR(RenumberVertices(renumbering, &renumbered));
-  codec_internal::Tags tag_set;
-  tag_set.crease_edges = std::move(renumbered.crease_edges);
-  tag_set.corners = std::move(renumbered.corners);
-  tag_set.has_feature_layer = options.feature_layer;
-  tag_set.polylines = std::move(renumbered.polylines);
-  tag_set.pairs = std::move(renumbered.pairs);
+  // The tag stream in a decoded numbering (vertex i is numbering[i]), with the positions and
+  // colours given (null: in the Draco mesh); decoded: the reader's positions in that numbering.
   const bool features_first = options.feature_layer && options.features_first;
-  tag_set.features_first = features_first;
-  const std::vector<MeshEdge> edges = codec_internal::CollectMeshEdges(renumbered.triangles);
-  std::vector<uint8_t> tags = codec_internal::EncodeTags(n, edges, tag_set, chosen.decoded);
+  auto encode_tags = [&](const std::vector<uint32_t>& numbering, const codec_internal::PositionStream* positions,
+                         const codec_internal::ColorStream* colors,
+                         const std::vector<Vertex>& decoded) -> StatusOr<std::vector<uint8_t>> {
+    Image renumbered;
+    renumbered.vertices = image.vertices;
+    renumbered.triangles = image.triangles;
+    renumbered.crease_edges = creases;
+    renumbered.corners = corners;
+    if (options.feature_layer) {
+      renumbered.polylines = image.polylines;
+      renumbered.pairs = image.pairs;
+    }
+    SDVI_RETURN_IF_ERROR(RenumberVertices(numbering, &renumbered));
+    codec_internal::Tags tag_set;
+    tag_set.crease_edges = std::move(renumbered.crease_edges);
+    tag_set.corners = std::move(renumbered.corners);
+    tag_set.has_feature_layer = options.feature_layer;
+    tag_set.polylines = std::move(renumbered.polylines);
+    tag_set.pairs = std::move(renumbered.pairs);
+    tag_set.features_first = features_first;
+    tag_set.positions = positions;
+    tag_set.colors = colors;
+    return codec_internal::EncodeTags(n, codec_internal::CollectMeshEdges(renumbered.triangles), tag_set, decoded);
+  };
+  SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> tags, encode_tags(renumbering, nullptr, nullptr, chosen.decoded));
+  const bool positions_streamable = !positionless.empty();
   bool stream_positions = false;
-  if (!positionless.empty()) {
-    tag_set.positions = &position_stream;
-    std::vector<uint8_t> tags_with = codec_internal::EncodeTags(n, edges, tag_set, chosen.decoded);
+  if (positions_streamable) {
+    SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> tags_with,
+                          encode_tags(renumbering, &position_stream, nullptr, chosen.decoded));
     if (positionless.size() + tags_with.size() < draco_bytes.size() + tags.size()) {
       draco_bytes = std::move(positionless);
       tags = std::move(tags_with);
@@ -1035,10 +1056,88 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
     }
   }
 
+  // Colours in the tag stream too (payload 1.5, kSmallest, with the positions there): the Draco
+  // mesh holds the connectivity alone, and the colours are neighbour-mean colours on the
+  // decorrelated grid (whatever the chosen mesh's colour coding). Draco numbers the points of a
+  // mesh with one attribute as its connectivity decoder meets them, those of a mesh with more
+  // otherwise; both decode the same faces in the same order and rotation, so the chosen
+  // numbering maps to the new one corner by corner (checked to be one to one, the faces then
+  // checked against the image's, the colours within the decorrelated bound). Kept when the
+  // payload is smaller.
+  bool stream_colors = false;
+  if (positions_streamable && !grey && options.neighbour_mean && options.stream_colors) {
+    try {
+      const std::string self = "compressed image (self-check)";
+      StatusOr<std::vector<uint8_t>> bytes =
+          EncodeDracoMesh(*BuildDracoMesh(image, false, ColorLayout::kNone, &renumbering),
+                          draco::MESH_EDGEBREAKER_ENCODING, 1, color_bits, options.speed);
+      StatusOr<DecodedMesh> alone = bytes.ok() ? DecodeDracoMesh(*bytes, self, false, false, true, true)
+                                               : StatusOr<DecodedMesh>(bytes.status());
+      StatusOr<DecodedMesh> reference = DecodeDracoMesh(chosen.bytes, self, decorrelated, mean_colors);
+      bool same = alone.ok() && reference.ok() && alone->ids.empty() && alone->points.size() == n &&
+                  alone->faces.size() == reference->faces.size() && alone->faces.size() == image.triangles.size();
+      constexpr uint32_t kUnset = std::numeric_limits<uint32_t>::max();
+      std::vector<uint32_t> to_alone(n, kUnset), from_alone(n, kUnset);
+      for (size_t f = 0; same && f < alone->faces.size(); ++f)
+        for (int k = 0; k < 3 && same; ++k) {
+          const uint32_t a = alone->faces[f][k], r = reference->faces[f][k];
+          if (to_alone[r] == kUnset && from_alone[a] == kUnset) to_alone[r] = a, from_alone[a] = r;
+          same = to_alone[r] == a && from_alone[a] == r;
+        }
+      std::vector<uint32_t> order(n);
+      for (uint32_t i = 0; i < n && same; ++i) {
+        order[i] = to_alone[renumbering[i]];
+        same = order[i] != kUnset;
+      }
+      if (same) {
+        std::vector<Triangle> got(alone->faces.size()), want(image.triangles.size());
+        for (size_t f = 0; f < got.size(); ++f)
+          for (int k = 0; k < 3; ++k) {
+            got[f].v[k] = alone->faces[f][k];
+            want[f].v[k] = order[image.triangles[f].v[k]];
+          }
+        CanonicalizeTriangles(&got);
+        CanonicalizeTriangles(&want);
+        same = got == want;
+      }
+      StatusOr<MeanColors> colors = same ? MeanColorIndices(image, order, color_step)
+                                         : StatusOr<MeanColors>(Status(StatusCode::kInternal, "no order"));
+      same = same && colors.ok();
+      if (same) {
+        const ErrorBound bound = CompressionErrorBound(image, position_bits, color_bits, true);
+        const auto& grid = colors->grid;
+        const std::array<double, 3> origin = {grid.origin[0], grid.origin[1], grid.origin[2]};
+        for (uint32_t i = 0; i < n && same; ++i) {
+          Vertex a;
+          const Vertex& b = image.vertices[i];
+          same = ColorFromGrid(origin, grid.step, grid.q[order[i]], &a) && std::abs(a.r - b.r) <= bound.color &&
+                 std::abs(a.g - b.g) <= bound.color && std::abs(a.b - b.b) <= bound.color;
+        }
+      }
+      if (same) {
+        codec_internal::PositionStream positions = position_stream;
+        std::vector<Vertex> decoded(n);
+        for (uint32_t i = 0; i < n; ++i) {
+          positions.q[order[i]] = position_stream.q[renumbering[i]];
+          decoded[order[i]] = chosen.decoded[renumbering[i]];
+        }
+        SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> tags_with, encode_tags(order, &positions, &colors->grid, decoded));
+        if (bytes->size() + tags_with.size() < draco_bytes.size() + tags.size()) {
+          draco_bytes = std::move(bytes).value();
+          tags = std::move(tags_with);
+          renumbering = std::move(order);
+          stream_positions = stream_colors = decorrelated = mean_colors = true;
+        }
+      }
+    } catch (const std::bad_alloc&) {
+      return Status(StatusCode::kLimitExceeded, "out of memory while compressing the image");
+    }
+  }
+
   std::vector<uint8_t> payload(kHeaderSize + draco_bytes.size() + tags.size(), 0);
   std::memcpy(payload.data(), kMagic, 4);
   payload[4] = kVersionMajor;
-  payload[5] = stream_positions ? 4 : mean_colors ? 3 : features_first ? 2 : 1;
+  payload[5] = stream_colors ? 5 : stream_positions ? 4 : mean_colors ? 3 : features_first ? 2 : 1;
   payload[6] = static_cast<uint8_t>((with_ids ? kFlagVertexIds : 0) |
                                     (options.feature_layer ? kFlagFeatureLayer : 0) |
                                     (grey ? kFlagGrey : 0) | (decorrelated ? kFlagDecorrelated : 0) |
@@ -1047,7 +1146,7 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
   payload[7] = static_cast<uint8_t>(position_bits);
   payload[8] = static_cast<uint8_t>(color_bits);
   payload[9] = static_cast<uint8_t>(options.speed);
-  payload[10] = stream_positions ? kFlag2Positions : 0;
+  payload[10] = static_cast<uint8_t>((stream_positions ? kFlag2Positions : 0) | (stream_colors ? kFlag2Colors : 0));
   PutU32(payload, 12, n);
   PutU32(payload, 16, static_cast<uint32_t>(image.triangles.size()));
   PutU32(payload, 20, static_cast<uint32_t>(creases.size()));
@@ -1083,10 +1182,12 @@ Status DecodeDracoPayload(std::span<const uint8_t> payload, const std::string& s
   const uint32_t n = h.vertex_count;
   Image out;
   try {
+    const bool stream_colors = (h.flags2 & kFlag2Colors) != 0;
     SDVI_ASSIGN_OR_RETURN(DecodedMesh mesh,
                           DecodeDracoMesh(payload.subspan(kHeaderSize, h.draco_size), source_name,
-                                          (h.flags & kFlagDecorrelated) != 0, (h.flags & kFlagMeanColors) != 0,
-                                          (h.flags2 & kFlag2Positions) != 0));
+                                          (h.flags & kFlagDecorrelated) && !stream_colors,
+                                          (h.flags & kFlagMeanColors) && !stream_colors,
+                                          (h.flags2 & kFlag2Positions) != 0, stream_colors));
     if (mesh.grey != ((h.flags & kFlagGrey) != 0))
       return Status(StatusCode::kCorrupt, what + ": the Draco COLOR attribute has " +
                                               (mesh.grey ? "1 component" : "3 components") +
@@ -1138,16 +1239,27 @@ Status DecodeDracoPayload(std::span<const uint8_t> payload, const std::string& s
       for (int k = 0; k < 3; ++k) out.triangles[f].v[k] = index_of_point[mesh.faces[f][k]];
     CanonicalizeTriangles(&out.triangles);
     codec_internal::Tags tags;
+    codec_internal::ColorStream colors;
     SDVI_RETURN_IF_ERROR(codec_internal::DecodeTags(
         payload.subspan(kHeaderSize + h.draco_size, h.tags_size), n,
         codec_internal::CollectMeshEdges(out.triangles), h.crease_edge_count, h.corner_count,
         (h.flags & kFlagFeatureLayer) != 0, (h.flags & kFlagCompactPairs) != 0,
         (h.flags & kFlagRankedStarts) != 0, source_name, &tags, (h.flags & kFlagFeaturesFirst) != 0,
-        out.vertices, h.position_bits, (h.flags2 & kFlag2Positions) ? &out.vertices : nullptr));
+        out.vertices, h.position_bits, (h.flags2 & kFlag2Positions) ? &out.vertices : nullptr,
+        stream_colors ? &colors : nullptr));
+    if (stream_colors) {
+      const std::array<double, 3> origin = {colors.origin[0], colors.origin[1], colors.origin[2]};
+      for (size_t i = 0; i < n; ++i)
+        if (!ColorFromGrid(origin, colors.step, colors.q[i], &out.vertices[i]))
+          return Status(StatusCode::kCorrupt, what + ": vertex " + std::to_string(i) + "'s colour lies off its grid");
+    }
     if (h.flags2 & kFlag2Positions)
-      for (size_t i = 0; i < out.vertices.size(); ++i)
-        if (!std::isfinite(out.vertices[i].x) || !std::isfinite(out.vertices[i].y))
-          return Status(StatusCode::kNonFinite, what + ": vertex " + std::to_string(i) + " is not finite");
+      for (size_t i = 0; i < out.vertices.size(); ++i) {
+        const Vertex& v = out.vertices[i];
+        for (float c : {v.x, v.y, v.r, v.g, v.b})
+          if (!std::isfinite(c))
+            return Status(StatusCode::kNonFinite, what + ": vertex " + std::to_string(i) + " is not finite");
+      }
     out.crease_edges = std::move(tags.crease_edges);
     out.corners = std::move(tags.corners);
     out.polylines = std::move(tags.polylines);
@@ -1188,6 +1300,7 @@ StatusOr<DracoPayloadInfo> InspectDracoPayload(std::span<const uint8_t> payload,
   info.decorrelated = (h.flags & kFlagDecorrelated) != 0;
   info.neighbour_mean = (h.flags & kFlagMeanColors) != 0;
   info.stream_positions = (h.flags2 & kFlag2Positions) != 0;
+  info.stream_colors = (h.flags2 & kFlag2Colors) != 0;
   return info;
 }
 
@@ -1197,6 +1310,7 @@ StatusOr<PartBytes> codec_internal::MeasureDracoParts(std::span<const uint8_t> p
   Image image;
   SDVI_RETURN_IF_ERROR(DecodeDracoPayload(payload, source_name, &image));
   PartBytes parts;
+  uint64_t in_stream = 0;  // the bytes of the positions and colours that open the tag stream
   try {
     auto positions_only = BuildDracoMesh(image, false, ColorLayout::kNone);
     SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> topology,
@@ -1205,18 +1319,25 @@ StatusOr<PartBytes> codec_internal::MeasureDracoParts(std::span<const uint8_t> p
                           EncodeDracoMesh(*positions_only, draco::MESH_EDGEBREAKER_ENCODING,
                                           h.position_bits, h.color_bits, h.speed));
     parts.connectivity = std::min<uint64_t>(topology.size(), h.draco_size);
+    uint64_t colors_in_stream = 0;
     if (h.flags2 & kFlag2Positions) {
-      // The positions open the tag stream: their bytes where they end.
+      // The positions open the tag stream, the colours may follow: their bytes where they end.
       codec_internal::RangeDecoder rc(payload.subspan(kHeaderSize + h.draco_size, h.tags_size));
       std::vector<Vertex> scratch(h.vertex_count);
-      SDVI_RETURN_IF_ERROR(codec_internal::DecodePositions(rc, h.position_bits,
-                                                           codec_internal::CollectMeshEdges(image.triangles),
-                                                           source_name, &scratch));
+      const auto edges = codec_internal::CollectMeshEdges(image.triangles);
+      SDVI_RETURN_IF_ERROR(codec_internal::DecodePositions(rc, h.position_bits, edges, source_name, &scratch));
       parts.positions = std::min<uint64_t>(rc.position(), h.tags_size);
+      if (h.flags2 & kFlag2Colors) {
+        codec_internal::ColorStream colors;
+        SDVI_RETURN_IF_ERROR(codec_internal::DecodeColors(rc, h.vertex_count, edges, source_name, &colors));
+        colors_in_stream = std::min<uint64_t>(rc.position(), h.tags_size) - parts.positions;
+      }
     } else {
       parts.positions = std::min<uint64_t>(with_positions.size(), h.draco_size) - parts.connectivity;
     }
-    parts.colors = h.draco_size - parts.connectivity - ((h.flags2 & kFlag2Positions) ? 0 : parts.positions);
+    parts.colors = h.draco_size - parts.connectivity - ((h.flags2 & kFlag2Positions) ? 0 : parts.positions) +
+                   colors_in_stream;
+    if (h.flags2 & kFlag2Positions) in_stream = parts.positions + colors_in_stream;
   } catch (const std::bad_alloc&) {
     return Status(StatusCode::kLimitExceeded, source_name + ": out of memory while measuring the payload");
   }
@@ -1231,11 +1352,9 @@ StatusOr<PartBytes> codec_internal::MeasureDracoParts(std::span<const uint8_t> p
     tags.pairs = image.pairs;
     size_t feature_bytes = 0;
     codec_internal::EncodeTags(h.vertex_count, edges, tags, image.vertices, &feature_bytes);
-    const uint64_t in_stream = (h.flags2 & kFlag2Positions) ? parts.positions : 0;
     parts.feature_layer = std::min<uint64_t>(feature_bytes, h.tags_size - in_stream);
     parts.tags = h.tags_size - in_stream - parts.feature_layer;
   } else {
-    const uint64_t in_stream = (h.flags2 & kFlag2Positions) ? parts.positions : 0;
     const std::vector<uint8_t> without_features = codec_internal::EncodeTags(h.vertex_count, edges, tags);
     parts.tags = std::min<uint64_t>(without_features.size(), h.tags_size - in_stream);
     parts.feature_layer = h.tags_size - in_stream - parts.tags;

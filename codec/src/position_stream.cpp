@@ -4,39 +4,18 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
 #include <cstring>
+
+#include "neighbour_mean.h"
 
 namespace sdvi::codec_internal {
 namespace {
 
 constexpr int kLengths = 25;  // a residual is below 2^24 in size: lengths 0..24
 
-struct PositionModels {
-  std::array<BitModel, 2> zero{}, sign{};
-  std::array<std::array<BitModel, kLengths>, 2> length{}, top{};
-};
-
-// Per vertex, the other ends of its mesh edges with a smaller index.
-std::vector<std::vector<uint32_t>> EarlierNeighbours(size_t vertex_count, const std::vector<MeshEdge>& edges) {
-  std::vector<std::vector<uint32_t>> out(vertex_count);
-  for (const MeshEdge& e : edges) out[e.b].push_back(e.a);
-  return out;
-}
-
-// The mean of the earlier neighbours' index k rounded half up, floor((2 sum + c) / (2 c));
-// none: the previous vertex's (0 for vertex 0). Indices are below 2^24, so sums of up to
-// 2^38 neighbours fit 64 bits.
-int64_t Prediction(const std::vector<uint32_t>& earlier, const std::vector<std::array<int32_t, 2>>& q, size_t v,
-                   int k) {
-  if (earlier.empty()) return v > 0 ? q[v - 1][k] : 0;
-  int64_t sum = 0;
-  for (uint32_t j : earlier) sum += q[j][k];
-  const int64_t c = static_cast<int64_t>(earlier.size());
-  const int64_t a = 2 * sum + c, b = 2 * c;  // a >= 0: indices are not negative
-  return a / b;
-}
+// One set of residual models per coordinate (x, y).
+using PositionModels = std::array<ResidualModels<kLengths>, 2>;
 
 uint32_t FloatBits(float f) {
   uint32_t u;
@@ -90,19 +69,7 @@ void EncodePositions(RangeEncoder& rc, const PositionStream& stream, const std::
   const auto earlier = EarlierNeighbours(stream.q.size(), edges);
   PositionModels m;
   for (size_t v = 0; v < stream.q.size(); ++v)
-    for (int k = 0; k < 2; ++k) {
-      const int64_t r = stream.q[v][k] - Prediction(earlier[v], stream.q, v, k);
-      rc.Encode(m.zero[k], r == 0);
-      if (r == 0) continue;
-      rc.Encode(m.sign[k], r < 0);
-      const uint32_t a = static_cast<uint32_t>(r < 0 ? -r : r);
-      const int e = std::bit_width(a) - 1;  // a in [2^e, 2^(e+1))
-      for (int j = 0; j <= e; ++j) rc.Encode(m.length[k][j], j < e);
-      if (e >= 1) {
-        rc.Encode(m.top[k][e], (a >> (e - 1)) & 1);
-        if (e >= 2) rc.EncodeDirect(a & ((uint32_t{1} << (e - 1)) - 1), e - 1);
-      }
-    }
+    for (int k = 0; k < 2; ++k) EncodeResidual(rc, m[k], stream.q[v][k] - MeanPrediction(earlier[v], stream.q, v, k));
 }
 
 Status DecodePositions(RangeDecoder& rc, int bits, const std::vector<MeshEdge>& edges, const std::string& what,
@@ -122,19 +89,8 @@ Status DecodePositions(RangeDecoder& rc, int bits, const std::vector<MeshEdge>& 
   for (size_t v = 0; v < n; ++v) {
     for (int k = 0; k < 2; ++k) {
       int64_t r = 0;
-      if (!rc.Decode(m.zero[k])) {
-        const bool negative = rc.Decode(m.sign[k]);
-        int e = 0;
-        while (rc.Decode(m.length[k][e]))
-          if (++e == kLengths) return Status(StatusCode::kCorrupt, what + ": a position residual does not end");
-        int64_t a = int64_t{1} << e;
-        if (e >= 1) {
-          a |= int64_t{rc.Decode(m.top[k][e])} << (e - 1);
-          if (e >= 2) a |= rc.DecodeDirect(e - 1);
-        }
-        r = negative ? -a : a;
-      }
-      const int64_t value = Prediction(earlier[v], q, v, k) + r;
+      if (!DecodeResidual(rc, m[k], &r)) return Status(StatusCode::kCorrupt, what + ": a position residual does not end");
+      const int64_t value = MeanPrediction(earlier[v], q, v, k) + r;
       if (value < 0 || value > top || rc.overrun())
         return Status(StatusCode::kCorrupt, what + ": vertex " + std::to_string(v) + "'s position lies off its grid");
       q[v][k] = static_cast<int32_t>(value);

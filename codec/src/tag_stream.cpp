@@ -6,6 +6,7 @@
 #include <bit>
 #include <cstring>
 
+#include "color_stream.h"
 #include "position_stream.h"
 #include "range_coder.h"
 
@@ -499,6 +500,7 @@ std::vector<uint8_t> EncodeTags(uint32_t vertex_count, const std::vector<MeshEdg
   if (tags.positions) {
     EncodePositions(rc, *tags.positions, edges);
     if (position_bytes) *position_bytes = rc.bytes_so_far();
+    if (tags.colors) EncodeColors(rc, *tags.colors, edges);
   }
   const bool features_first = tags.has_feature_layer && tags.features_first;
   if (feature_bytes) *feature_bytes = 0;
@@ -565,7 +567,8 @@ Status DecodeTags(std::span<const uint8_t> bytes, uint32_t vertex_count,
                   const std::vector<MeshEdge>& edges, uint32_t expected_crease_edges,
                   uint32_t expected_corners, bool has_feature_layer, bool compact_pairs,
                   bool ranked_starts, const std::string& source_name, Tags* tags, bool features_first,
-                  Positions positions, int position_bits, std::vector<Vertex>* decoded_positions) {
+                  Positions positions, int position_bits, std::vector<Vertex>* decoded_positions,
+                  ColorStream* decoded_colors) {
   const std::string what = source_name + ": Draco payload tag stream";
   RangeDecoder rc(bytes);
   if (decoded_positions) {
@@ -573,6 +576,7 @@ Status DecodeTags(std::span<const uint8_t> bytes, uint32_t vertex_count,
       return Status(StatusCode::kInternal, what + ": the vertices to decode positions into are missing");
     SDVI_RETURN_IF_ERROR(DecodePositions(rc, position_bits, edges, what, decoded_positions));
     positions = *decoded_positions;
+    if (decoded_colors) SDVI_RETURN_IF_ERROR(DecodeColors(rc, vertex_count, edges, what, decoded_colors));
   }
   FeatureModels m;
   Tags out;

@@ -38,6 +38,7 @@
 namespace sdvi::codec_internal {
 
 struct PositionStream;  // position_stream.h
+struct ColorStream;     // color_stream.h
 
 // One undirected mesh edge and the number of triangles that have it.
 struct MeshEdge {
@@ -60,6 +61,9 @@ struct Tags {
   bool features_first = false;             // the feature layer before the edge bits (payload 1.2)
   // The vertex positions, coded first (payload 1.4, position_stream.h); null: in the Draco mesh.
   const PositionStream* positions = nullptr;
+  // The colours, coded after the positions (payload 1.5, color_stream.h; only with positions);
+  // null: in the Draco mesh.
+  const ColorStream* colors = nullptr;
 };
 
 // The decoded positions of the vertices (their x, y; features_first orders a polyline's
@@ -78,13 +82,14 @@ std::vector<uint8_t> EncodeTags(uint32_t vertex_count, const std::vector<MeshEdg
 // when the stream overruns, names a vertex or polyline that does not exist, or its counts
 // differ from the header's. With decoded_positions (vertex_count vertices) the stream starts with
 // the positions on a grid of position_bits (payload 1.4): their x, y are decoded into it and
-// the feature layer is ordered by them (positions is then ignored).
+// the feature layer is ordered by them (positions is then ignored); with decoded_colors too, the
+// colours follow them (payload 1.5) and are decoded into it.
 Status DecodeTags(std::span<const uint8_t> bytes, uint32_t vertex_count,
                   const std::vector<MeshEdge>& edges, uint32_t expected_crease_edges,
                   uint32_t expected_corners, bool has_feature_layer, bool compact_pairs,
                   bool ranked_starts, const std::string& source_name, Tags* tags,
                   bool features_first = false, Positions positions = {}, int position_bits = 0,
-                  std::vector<Vertex>* decoded_positions = nullptr);
+                  std::vector<Vertex>* decoded_positions = nullptr, ColorStream* decoded_colors = nullptr);
 
 // The parts of a Draco payload (PartBytes in sdvi/codec.h; container = its 40-byte header);
 // defined in draco_payload.cpp.

@@ -55,6 +55,7 @@ TEST_CASE("positions in the tag stream: smaller on irregular samples, exactly th
     options.position_bits = position_bits;
     options.color_bits = 7;
     options.color_coding = ColorCoding::kSmallest;
+    options.stream_colors = false;  // the positions alone (colours too: color_stream_test.cpp)
     const std::vector<uint8_t> streamed = MustEncode(image, options);
     options.stream_positions = false;
     const std::vector<uint8_t> in_draco = MustEncode(image, options);
@@ -115,6 +116,7 @@ TEST_CASE("positions in the tag stream: header rules and damaged bytes", "[codec
   CompressOptions options;
   options.color_coding = ColorCoding::kSmallest;
   options.position_bits = 10;
+  options.stream_colors = false;  // payload 1.4 (1.5: color_stream_test.cpp)
   const std::vector<uint8_t> good = MustEncode(image, options);
   REQUIRE(good[10] == 1);
   Image out;

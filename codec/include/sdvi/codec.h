@@ -72,6 +72,10 @@ struct CompressOptions {
   // predicted by the mean of its neighbours decoded before it (payload 1.4, spec/FORMAT.md
   // 8.7), kept when the payload is smaller.
   bool stream_positions = true;
+  // With stream_positions and neighbour_mean: also try the neighbour-mean colours coded in the
+  // tag stream after the positions, the Draco mesh left with the connectivity alone (payload
+  // 1.5, spec/FORMAT.md 8.8), kept when the payload is smaller.
+  bool stream_colors = true;
   // Repeat the payload header's settings as container params (spec/FORMAT.md 8): what v1.0
   // writers did; redundant with the header and ~220 bytes a file, so off by default.
   bool container_params = false;
@@ -173,6 +177,7 @@ struct DracoPayloadInfo {
   bool decorrelated = false;  // colours coded as L, C1, C2 (ColorCoding::kDecorrelated)
   bool neighbour_mean = false;  // ... predicted by the decoded neighbours' mean (payload 1.3)
   bool stream_positions = false;  // positions in the tag stream, not in the Draco mesh (payload 1.4)
+  bool stream_colors = false;     // neighbour-mean colours in the tag stream too (payload 1.5)
 };
 StatusOr<DracoPayloadInfo> InspectDracoPayload(std::span<const uint8_t> payload,
                                                const std::string& source_name);

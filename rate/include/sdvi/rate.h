@@ -51,6 +51,7 @@ struct RateOptions {
   bool features_first = true;  // the feature layer first (payload 1.2; false: 1.1), sdvi/codec.h
   bool neighbour_mean = true;  // kSmallest also tries neighbour-mean colours (payload 1.3), sdvi/codec.h
   bool stream_positions = true;  // kSmallest also tries positions in the tag stream (payload 1.4), sdvi/codec.h
+  bool stream_colors = true;  // ... and the colours there too (payload 1.5), sdvi/codec.h
   int threads = 1;
 };
 
