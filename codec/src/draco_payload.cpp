@@ -687,6 +687,22 @@ bool SameMesh(const DecodedMesh& a, const DecodedMesh& b) {
   return a.points == b.points && a.faces == b.faces;
 }
 
+// Whether decoded faces (point triples) are image's triangles with vertex i as point order[i],
+// in any order and rotation.
+bool FacesInOrder(const std::vector<std::array<uint32_t, 3>>& faces, const Image& image,
+                  const std::vector<uint32_t>& order) {
+  if (faces.size() != image.triangles.size()) return false;
+  std::vector<Triangle> got(faces.size()), want(image.triangles.size());
+  for (size_t f = 0; f < got.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      got[f].v[k] = faces[f][k];
+      want[f].v[k] = order[image.triangles[f].v[k]];
+    }
+  CanonicalizeTriangles(&got);
+  CanonicalizeTriangles(&want);
+  return got == want;
+}
+
 }  // namespace
 
 int DefaultPositionBits(const Image& image, double reference_mse) {
@@ -891,17 +907,7 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
       same = a.x == c.x && a.y == c.y && std::abs(a.r - b.r) <= bound.color && std::abs(a.g - b.g) <= bound.color &&
              std::abs(a.b - b.b) <= bound.color;
     }
-    if (same) {
-      std::vector<Triangle> got(decoded.faces.size()), want(image.triangles.size());
-      for (size_t f = 0; f < got.size(); ++f)
-        for (int k = 0; k < 3; ++k) {
-          got[f].v[k] = decoded.faces[f][k];
-          want[f].v[k] = reference.renumbering[image.triangles[f].v[k]];
-        }
-      CanonicalizeTriangles(&got);
-      CanonicalizeTriangles(&want);
-      same = got == want;
-    }
+    same = same && FacesInOrder(decoded.faces, image, reference.renumbering);
     if (!same) return Status(StatusCode::kEncodeFailed, "neighbour-mean colours do not decode in the same order");
     DracoMesh out;
     out.bytes = std::move(bytes);
@@ -974,17 +980,7 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
         const Vertex& b = chosen.decoded[p];
         same = std::memcmp(&a.r, &b.r, 3 * sizeof(float)) == 0;
       }
-      if (same) {
-        std::vector<Triangle> got(decoded->faces.size()), want(image.triangles.size());
-        for (size_t f = 0; f < got.size(); ++f)
-          for (int k = 0; k < 3; ++k) {
-            got[f].v[k] = decoded->faces[f][k];
-            want[f].v[k] = order[image.triangles[f].v[k]];
-          }
-        CanonicalizeTriangles(&got);
-        CanonicalizeTriangles(&want);
-        same = got == want;
-      }
+      same = same && FacesInOrder(decoded->faces, image, order);
       const codec_internal::DracoPositionGrid grid(image, position_bits);
       position_stream.min_x = grid.min(0);
       position_stream.min_y = grid.min(1);
@@ -1089,17 +1085,7 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
         order[i] = to_alone[renumbering[i]];
         same = order[i] != kUnset;
       }
-      if (same) {
-        std::vector<Triangle> got(alone->faces.size()), want(image.triangles.size());
-        for (size_t f = 0; f < got.size(); ++f)
-          for (int k = 0; k < 3; ++k) {
-            got[f].v[k] = alone->faces[f][k];
-            want[f].v[k] = order[image.triangles[f].v[k]];
-          }
-        CanonicalizeTriangles(&got);
-        CanonicalizeTriangles(&want);
-        same = got == want;
-      }
+      same = same && FacesInOrder(alone->faces, image, order);
       StatusOr<MeanColors> colors = same ? MeanColorIndices(image, order, color_step)
                                          : StatusOr<MeanColors>(Status(StatusCode::kInternal, "no order"));
       same = same && colors.ok();

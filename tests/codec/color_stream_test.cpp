@@ -11,13 +11,9 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
-#include <fstream>
-#include <iterator>
-#include <random>
 
 #include "range_coder.h"
 #include "sdvi/codec.h"
-#include "sdvi/mesh_json.h"
 #include "synthetic_mesh.h"
 #include "tag_stream.h"
 
@@ -31,21 +27,6 @@ using sdvi::testing::MustDecode;
 using sdvi::testing::MustEncode;
 
 namespace {
-
-// The jittered synthetic grid with colours like a fitted photo's (as mean_colors_test.cpp): a
-// smooth luminance with random detail per vertex and small correlated tints.
-Image PhotoLikeImage(uint32_t seed, uint32_t cols = 30) {
-  Image image = sdvi::testing::SyntheticGridImage(256, 256, cols, cols, seed);
-  std::mt19937 rng(seed);
-  std::normal_distribution<float> detail(0.f, 18.f), tint(0.f, 6.f);
-  for (auto& v : image.vertices) {
-    const float y = 130 + 110 * std::sin(v.x / 40.f) * std::cos(v.y / 55.f) + detail(rng);
-    v.r = y + 20 + tint(rng);
-    v.g = y + tint(rng);
-    v.b = y - 25 + tint(rng);
-  }
-  return image;
-}
 
 // The image a payload decodes to, in the numbering of the image it was made from (new_index:
 // EncodeDracoPayload's), triangles canonical.
@@ -206,7 +187,7 @@ HandBuilt BuildByHand(const std::vector<uint8_t>& writer_payload, Damage damage 
 
 // A small image whose smallest payload is 1.5, without crease edges, corners or feature layer.
 std::vector<uint8_t> WriterPayloadWithoutTags() {
-  Image image = PhotoLikeImage(21, 8);
+  Image image = sdvi::testing::PhotoLikeGridImage(21, 8);
   image.crease_edges.clear();
   image.corners.clear();
   image.polylines.clear();
@@ -222,7 +203,7 @@ std::vector<uint8_t> WriterPayloadWithoutTags() {
 
 TEST_CASE("colours in the tag stream: smaller, and exactly the colours of neighbour-mean colours in Draco",
           "[codec][colors][color_stream]") {
-  const Image image = PhotoLikeImage(5);
+  const Image image = sdvi::testing::PhotoLikeGridImage(5);
   for (int color_bits : {6, 8}) {
     INFO("colour bits " << color_bits);
     CompressOptions options;
@@ -275,7 +256,7 @@ TEST_CASE("colours in the tag stream: smaller, and exactly the colours of neighb
 
 TEST_CASE("colours in the tag stream are not taken without their options, nor for grey images",
           "[codec][colors][color_stream]") {
-  const Image image = PhotoLikeImage(6);
+  const Image image = sdvi::testing::PhotoLikeGridImage(6);
   CompressOptions options;
   options.position_bits = 12;
   options.color_coding = ColorCoding::kSmallest;
@@ -337,7 +318,7 @@ TEST_CASE("a colour stream built by hand from the spec decodes to the values it 
 }
 
 TEST_CASE("colours in the tag stream: header rules and damaged bytes", "[codec][colors][color_stream][corrupt]") {
-  const Image image = PhotoLikeImage(7);
+  const Image image = sdvi::testing::PhotoLikeGridImage(7);
   CompressOptions options;
   options.color_coding = ColorCoding::kSmallest;
   options.position_bits = 12;
@@ -396,18 +377,5 @@ TEST_CASE("colours in the tag stream: header rules and damaged bytes", "[codec][
 TEST_CASE("the golden payload 1.5 file reads (kept forever)", "[codec][colors][color_stream]") {
   // The built-in sample (`sdvi sample`) vectorized by `sdvi vectorize s.png -o s.sdvi --compress
   // --compression-ratio 600`: positions and colours in the tag stream, features first.
-  const std::string dir = SDVI_TEST_DATA_DIR;
-  auto read = sdvi::ReadImage(dir + "/golden_draco_v1_5.sdvi");
-  INFO(read.status().ToString());
-  REQUIRE(read.ok());
-  std::ifstream json_file(dir + "/golden_draco_v1_5.json", std::ios::binary);
-  const std::string json((std::istreambuf_iterator<char>(json_file)), std::istreambuf_iterator<char>());
-  auto expected = sdvi::ParseMeshJson(json, "golden_draco_v1_5.json");
-  REQUIRE(expected.ok());
-  CHECK(expected->vertices == read->vertices);
-  CHECK(expected->triangles == read->triangles);
-  CHECK(expected->crease_edges == read->crease_edges);
-  CHECK(expected->corners == read->corners);
-  CHECK(expected->polylines == read->polylines);
-  CHECK(expected->pairs == read->pairs);
+  sdvi::testing::CheckGoldenFile("golden_draco_v1_5");
 }

@@ -6,7 +6,6 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
-#include <random>
 
 #include "sdvi/codec.h"
 #include "synthetic_mesh.h"
@@ -17,28 +16,9 @@ using sdvi::Image;
 using sdvi::StatusCode;
 using sdvi::testing::MustEncode;
 
-namespace {
-
-// The synthetic grid with colours like a fitted photo's: a smooth luminance over the image
-// with random detail per vertex, small tints (R, G, B correlated), overshooting 0..255.
-Image SmoothPhotoImage(uint32_t seed) {
-  Image image = sdvi::testing::SyntheticGridImage(256, 256, 30, 30, seed);
-  std::mt19937 rng(seed);
-  std::normal_distribution<float> detail(0.f, 18.f), tint(0.f, 6.f);
-  for (auto& v : image.vertices) {
-    const float y = 130 + 110 * std::sin(v.x / 40.f) * std::cos(v.y / 55.f) + detail(rng);
-    v.r = y + 20 + tint(rng);
-    v.g = y + tint(rng);
-    v.b = y - 25 + tint(rng);
-  }
-  return image;
-}
-
-}  // namespace
-
 TEST_CASE("neighbour-mean colours: smaller than decorrelated, the same positions and order, colours within its bound",
           "[codec][colors]") {
-  const Image image = SmoothPhotoImage(3);
+  const Image image = sdvi::testing::PhotoLikeGridImage(3);
   for (int color_bits : {6, 8}) {
     INFO("colour bits " << color_bits);
     CompressOptions options;
@@ -107,7 +87,7 @@ TEST_CASE("neighbour-mean colours are not taken where differences are smaller (a
 }
 
 TEST_CASE("neighbour-mean header rules and damaged bytes", "[codec][colors][corrupt]") {
-  const Image image = SmoothPhotoImage(4);
+  const Image image = sdvi::testing::PhotoLikeGridImage(4);
   CompressOptions options;
   options.color_coding = ColorCoding::kSmallest;
   const std::vector<uint8_t> good = MustEncode(image, options);

@@ -7,12 +7,9 @@
 
 #include <cmath>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <random>
 
 #include "sdvi/codec.h"
-#include "sdvi/mesh_json.h"
 #include "synthetic_mesh.h"
 
 using sdvi::ColorCoding;
@@ -164,18 +161,5 @@ TEST_CASE("positions in the tag stream: header rules and damaged bytes", "[codec
 TEST_CASE("the golden payload 1.4 file reads (kept forever)", "[codec][positions]") {
   // The built-in sample (`sdvi sample`) vectorized by `sdvi vectorize s.png -o s.sdvi --compress
   // --compression-ratio 600`: positions in the tag stream at 10 bits, RGB colours, features first.
-  const std::string dir = SDVI_TEST_DATA_DIR;
-  auto read = sdvi::ReadImage(dir + "/golden_draco_v1_4.sdvi");
-  INFO(read.status().ToString());
-  REQUIRE(read.ok());
-  std::ifstream json_file(dir + "/golden_draco_v1_4.json", std::ios::binary);
-  const std::string json((std::istreambuf_iterator<char>(json_file)), std::istreambuf_iterator<char>());
-  auto expected = sdvi::ParseMeshJson(json, "golden_draco_v1_4.json");
-  REQUIRE(expected.ok());
-  CHECK(expected->vertices == read->vertices);
-  CHECK(expected->triangles == read->triangles);
-  CHECK(expected->crease_edges == read->crease_edges);
-  CHECK(expected->corners == read->corners);
-  CHECK(expected->polylines == read->polylines);
-  CHECK(expected->pairs == read->pairs);
+  sdvi::testing::CheckGoldenFile("golden_draco_v1_4");
 }

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <numeric>
 #include <random>
 #include <span>
@@ -12,6 +14,7 @@
 #include "grid_triangles.h"
 #include "sdvi/codec.h"
 #include "sdvi/format.h"
+#include "sdvi/mesh_json.h"
 
 namespace sdvi::testing {
 
@@ -90,6 +93,37 @@ std::vector<uint8_t> MustEncode(const Image& image, const CompressOptions& optio
   INFO(payload.status().ToString());
   REQUIRE(payload.ok());
   return std::move(payload).value();
+}
+
+Image PhotoLikeGridImage(uint32_t seed, uint32_t cols) {
+  Image image = SyntheticGridImage(256, 256, cols, cols, seed);
+  std::mt19937 rng(seed);
+  std::normal_distribution<float> detail(0.f, 18.f), tint(0.f, 6.f);
+  for (auto& v : image.vertices) {
+    const float y = 130 + 110 * std::sin(v.x / 40.f) * std::cos(v.y / 55.f) + detail(rng);
+    v.r = y + 20 + tint(rng);
+    v.g = y + tint(rng);
+    v.b = y - 25 + tint(rng);
+  }
+  return image;
+}
+
+void CheckGoldenFile(const std::string& name) {
+  INFO(name);
+  const std::string dir = SDVI_TEST_DATA_DIR;
+  auto read = ReadImage(dir + "/" + name + ".sdvi");
+  INFO(read.status().ToString());
+  REQUIRE(read.ok());
+  std::ifstream json_file(dir + "/" + name + ".json", std::ios::binary);
+  const std::string json((std::istreambuf_iterator<char>(json_file)), std::istreambuf_iterator<char>());
+  auto expected = ParseMeshJson(json, name + ".json");
+  REQUIRE(expected.ok());
+  CHECK(expected->vertices == read->vertices);
+  CHECK(expected->triangles == read->triangles);
+  CHECK(expected->crease_edges == read->crease_edges);
+  CHECK(expected->corners == read->corners);
+  CHECK(expected->polylines == read->polylines);
+  CHECK(expected->pairs == read->pairs);
 }
 
 Image MustDecode(const std::vector<uint8_t>& payload) {

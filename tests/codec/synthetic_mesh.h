@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "sdvi/codec.h"
@@ -18,6 +19,15 @@ namespace sdvi::testing {
 // Vertices are numbered in a scrambled (but deterministic) order when shuffle is set.
 Image SyntheticGridImage(uint32_t width, uint32_t height, uint32_t cols, uint32_t rows,
                          uint32_t seed = 1, bool shuffle = false);
+
+// The 256 x 256 synthetic grid of cols x cols vertices with colours like a fitted photo's: a
+// smooth luminance over the image with random detail per vertex and small tints (R, G, B
+// correlated), overshooting 0..255.
+Image PhotoLikeGridImage(uint32_t seed, uint32_t cols = 30);
+
+// Checks that the golden file NAME.sdvi of the test data reads to exactly the values of
+// NAME.json (written by `sdvi convert` when the file was made; kept forever).
+void CheckGoldenFile(const std::string& name);
 
 // Rewrites the CRC-32 field of a Draco payload so that damaged bytes behind it reach
 // the Draco decoder and the tag stream (for robustness tests).
