@@ -16,7 +16,7 @@
 namespace sdvi::cli {
 namespace {
 
-constexpr const char* kCommand = "export-gltf";
+constexpr const char* kExportGltf = "export-gltf";
 
 // The options of `sdvi export-gltf`.
 struct ExportGltfArgs {
@@ -27,21 +27,21 @@ struct ExportGltfArgs {
 };
 
 int ExportGltf(const ExportGltfArgs& a) {
-  if (a.json && IsStdStream(a.output)) return ReportUsage(kCommand, "--json and -o - both use standard output");
+  if (a.json && IsStdStream(a.output)) return ReportUsage(kExportGltf, "--json and -o - both use standard output");
   // Check the output name before reading the input: a usage error should be cheap.
   if (auto container = GltfContainerForPath(a.output); !container.ok())
-    return ReportUsage(kCommand, container.status().message());
+    return ReportUsage(kExportGltf, container.status().message());
 
   if (a.options.embed && GltfContainerForPath(a.output).value() != GltfContainer::kText)
-    return ReportUsage(kCommand, "--embed is for .gltf output (a .glb carries its buffer inside)");
+    return ReportUsage(kExportGltf, "--embed is for .gltf output (a .glb carries its buffer inside)");
 
   auto image = LoadSdvi(a.input);
-  if (!image.ok()) return ReportError(kCommand, image.status());
+  if (!image.ok()) return ReportError(kExportGltf, image.status());
   Progress progress(a.quiet || a.json);  // on a terminal only
   GltfExportOptions options = a.options;
   options.progress = &progress;
   auto exported = WriteGltf(a.output, *image, options);
-  if (!exported.ok()) return ReportError(kCommand, ExportError(exported.status(), a.input));
+  if (!exported.ok()) return ReportError(kExportGltf, ExportError(exported.status(), a.input));
   if (a.json) {
     nlohmann::ordered_json j;
     j["output"] = a.output;

@@ -18,7 +18,7 @@
 namespace sdvi::cli {
 namespace {
 
-constexpr const char* kCommand = "export-pdf";
+constexpr const char* kExportPdf = "export-pdf";
 
 // The options of `sdvi export-pdf`.
 struct ExportPdfArgs {
@@ -28,14 +28,14 @@ struct ExportPdfArgs {
 };
 
 int ExportPdf(const ExportPdfArgs& a) {
-  if (a.json && IsStdStream(a.output)) return ReportUsage(kCommand, "--json and -o - both use standard output");
+  if (a.json && IsStdStream(a.output)) return ReportUsage(kExportPdf, "--json and -o - both use standard output");
   auto image = LoadSdvi(a.input);
-  if (!image.ok()) return ReportError(kCommand, image.status());
+  if (!image.ok()) return ReportError(kExportPdf, image.status());
   Progress progress(a.quiet || a.json);  // on a terminal only
   PdfExportOptions options = a.options;
   options.progress = &progress;
   auto exported = WritePdf(a.output, *image, options);
-  if (!exported.ok()) return ReportError(kCommand, ExportError(exported.status(), a.input));
+  if (!exported.ok()) return ReportError(kExportPdf, ExportError(exported.status(), a.input));
   if (a.json) {
     nlohmann::ordered_json j;
     j["output"] = a.output;

@@ -18,7 +18,7 @@
 namespace sdvi::cli {
 namespace {
 
-constexpr const char* kCommand = "export-svg";
+constexpr const char* kExportSvg = "export-svg";
 
 // The options of `sdvi export-svg`.
 struct ExportSvgArgs {
@@ -28,14 +28,14 @@ struct ExportSvgArgs {
 };
 
 int ExportSvg(const ExportSvgArgs& a) {
-  if (a.json && IsStdStream(a.output)) return ReportUsage(kCommand, "--json and -o - both use standard output");
+  if (a.json && IsStdStream(a.output)) return ReportUsage(kExportSvg, "--json and -o - both use standard output");
   auto image = LoadSdvi(a.input);
-  if (!image.ok()) return ReportError(kCommand, image.status());
+  if (!image.ok()) return ReportError(kExportSvg, image.status());
   Progress progress(a.quiet || a.json);  // on a terminal only
   SvgExportOptions options = a.options;
   options.progress = &progress;
   auto exported = WriteSvg(a.output, *image, options);
-  if (!exported.ok()) return ReportError(kCommand, ExportError(exported.status(), a.input));
+  if (!exported.ok()) return ReportError(kExportSvg, ExportError(exported.status(), a.input));
   if (a.json) {
     nlohmann::ordered_json j;
     j["output"] = a.output;
