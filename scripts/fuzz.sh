@@ -16,6 +16,8 @@
 #                           TraceSvgGeometry, ArtworkFeatures
 #            edit_script    the edit script, ParseEditScript, applied by ApplyEdits
 #   env: FUZZ_DIR (default build-fuzz), CXX_FUZZ / CC_FUZZ (default clang++ / clang),
+#        FUZZ_OPT (default -O3; the optimisation of a new FUZZ_DIR: ctest's fuzz.* tests,
+#        which fuzz 5 s each, build at -O0, a third of the compile time),
 #        FUZZ_RSS_MB (default 2048), FUZZ_NICE (default 10), FUZZ_QUIET=1 (libFuzzer's log
 #        to FUZZ_DIR/TARGET.log)
 # Needs clang (Debian clang 14 and libclang-rt-14-dev). The ctest tests fuzz.* run it for
@@ -39,6 +41,7 @@ if [ ! -f "$FUZZ_DIR/build.ninja" ]; then
   cmake -S . -B "$FUZZ_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release \
     -DCMAKE_C_COMPILER="${CC_FUZZ:-clang}" -DCMAKE_CXX_COMPILER="${CXX_FUZZ:-clang++}" \
     "${LAUNCHER[@]}" -DCMAKE_C_FLAGS="$FLAGS" -DCMAKE_CXX_FLAGS="$FLAGS" \
+    -DCMAKE_C_FLAGS_RELEASE="${FUZZ_OPT:--O3} -DNDEBUG" -DCMAKE_CXX_FLAGS_RELEASE="${FUZZ_OPT:--O3} -DNDEBUG" \
     -DSDVI_BUILD_FUZZ=ON -DSDVI_BUILD_TESTS=OFF -DSDVI_BUILD_BENCH=OFF -DSDVI_RASTER_MODULE=OFF >/dev/null
 fi
 BUILD_TARGETS=""

@@ -70,11 +70,22 @@ if [ "$WHICH" = cli ]; then
     head -30 "$report" >&2
   done
 fi
+# The executables run SANITIZE_JOBS at a time (default: the cores), in the order of TESTS
+# (the longest first), each in its build directory as under ctest. Cases tagged [slow] (a
+# minute or more under ASan at -O1) run in the release suite only.
+njobs=${SANITIZE_JOBS:-$(nproc)}
 for t in $TESTS; do
-  # The tests' working directory is their build directory, as under ctest.
-  # Cases tagged [slow] (a minute or more under ASan at -O1) run in the release suite only.
-  if (cd "$DIR/tests/$t" && "./sdvi_${t}_tests" "~[slow]" --reporter compact >"sanitize.log" 2>&1); then
-    echo "sanitize: sdvi_${t}_tests: $(grep -E "^(Passed|All tests passed)" "$DIR/tests/$t/sanitize.log" | tail -1)"
+  while [ "$(jobs -pr | wc -l)" -ge "$njobs" ]; do wait -n || true; done
+  rm -f "$DIR/tests/$t/sanitize.rc"
+  (cd "$DIR/tests/$t" && rc=0 && start=$SECONDS &&
+   { "./sdvi_${t}_tests" "~[slow]" --reporter compact >sanitize.log 2>&1 || rc=$?; } &&
+   echo "$rc $((SECONDS - start))" >sanitize.rc) &
+done
+wait
+for t in $TESTS; do
+  read -r rc seconds 2>/dev/null <"$DIR/tests/$t/sanitize.rc" || rc=missing
+  if [ "$rc" = 0 ]; then
+    echo "sanitize: sdvi_${t}_tests (${seconds} s): $(grep -E "^(Passed|All tests passed)" "$DIR/tests/$t/sanitize.log" | tail -1)"
   else
     failed=$((failed + 1))
     echo "sanitize: sdvi_${t}_tests FAILED; its log:" >&2
