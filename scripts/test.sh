@@ -3,7 +3,9 @@
 # Builds everything (via setup.sh) and runs the whole test suite with ctest, then the
 # sanitizer pass (scripts/sanitize.sh all: every Catch2 test executable built with ASan +
 # UBSan in build-asan/ and run whole). SDVI_SANITIZE=0 skips it, SDVI_SANITIZE=readers runs
-# only the tests of the readers and writers.
+# only the tests of the readers and writers. A cold run (fresh clone, no ccache; README "Test")
+# compiles sdvi three times: release (setup.sh), the fuzz targets (ctest's fuzz.build, clang
+# -O0) and the sanitizer build (GCC -O1); README "Test" gives the time of each phase.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
