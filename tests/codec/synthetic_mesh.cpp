@@ -87,6 +87,25 @@ void FixPayloadChecksum(std::vector<uint8_t>* payload) {
   for (int i = 0; i < 4; ++i) (*payload)[36 + i] = static_cast<uint8_t>(crc >> (8 * i));
 }
 
+int DamagedPayloadErrors(const std::vector<uint8_t>& good, size_t draco_step, size_t stream_step, int* tried) {
+  REQUIRE(good.size() >= 40);
+  const uint32_t draco_size = uint32_t(good[28]) | uint32_t(good[29]) << 8 | uint32_t(good[30]) << 16 |
+                              uint32_t(good[31]) << 24;
+  int errors = 0;
+  *tried = 0;
+  for (size_t at = 40; at < good.size(); at += (at < 40 + size_t{draco_size} ? draco_step : stream_step)) {
+    for (uint8_t flip : {uint8_t{0x5A}, uint8_t{0x01}, uint8_t{0x80}}) {
+      std::vector<uint8_t> damaged = good;
+      damaged[at] ^= flip;
+      FixPayloadChecksum(&damaged);
+      Image decoded;
+      ++*tried;
+      if (!DecodeDracoPayload(damaged, "damaged.sdvi", &decoded).ok()) ++errors;
+    }
+  }
+  return errors;
+}
+
 std::vector<uint8_t> MustEncode(const Image& image, const CompressOptions& options,
                                 std::vector<uint32_t>* new_index) {
   auto payload = EncodeDracoPayload(image, options, new_index);

@@ -33,6 +33,11 @@ void CheckGoldenFile(const std::string& name);
 // the Draco decoder and the tag stream (for robustness tests).
 void FixPayloadChecksum(std::vector<uint8_t>* payload);
 
+// Flips bytes of a good Draco payload one at a time (three patterns each, every draco_step-th
+// byte of the Draco mesh and every stream_step-th byte after it, the checksum fixed) and
+// decodes each: never a crash. Returns how many of them were refused; *tried counts them.
+int DamagedPayloadErrors(const std::vector<uint8_t>& good, size_t draco_step, size_t stream_step, int* tried);
+
 // The Draco payload of image; fails the current test (Catch2 REQUIRE, with the encoder's
 // message) when it does not encode.
 std::vector<uint8_t> MustEncode(const Image& image, const CompressOptions& options,
