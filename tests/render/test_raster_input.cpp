@@ -396,3 +396,17 @@ TEST_CASE("WithNeededChannels drops a full-coverage alpha and collapses exact gr
   REQUIRE(ga.channels == 2);
   CHECK(ga.data == std::vector<float>{7, 1, 9, 0});
 }
+
+TEST_CASE("A BMP whose pixel data offset lies before the file is an error, read within the bytes",
+          "[raster_input]") {
+  // 5x6 pixels, 24 bits, BITMAPINFOHEADER; bfOffBits = 0xffffffc0 (-64 as a signed offset).
+  // OpenImageIO's memory reader once copied from before the buffer here (ASan, fuzz.raster).
+  std::vector<uint8_t> bmp(130, 0x5A);
+  const uint8_t header[] = {'B', 'M', 0x82, 0, 0, 0, 0, 0, 0, 0, 0xc0, 0xff, 0xff, 0xff, 40, 0, 0, 0,
+                            5, 0, 0, 0, 6, 0, 0, 0, 1, 0, 24, 0, 0, 0, 0, 0};
+  std::copy(std::begin(header), std::end(header), bmp.begin());
+  std::fill(bmp.begin() + sizeof(header), bmp.begin() + 54, uint8_t{0});
+  auto out = DecodeRaster(bmp, "offset.bmp");
+  REQUIRE_FALSE(out.ok());
+  CHECK(out.status().message().find("offset.bmp") != std::string::npos);
+}

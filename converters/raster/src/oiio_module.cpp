@@ -29,6 +29,28 @@ namespace {
 
 std::string SizeText(int64_t w, int64_t h) { return std::to_string(w) + "x" + std::to_string(h); }
 
+// OpenImageIO 2.4's memory reader copies from wherever its position points, before the
+// buffer too: a BMP whose pixel data offset is 0xffffffc0 made it read 16 bytes before the
+// file's bytes (found by fuzz.raster under ASan). Here a position outside the bytes reads
+// nothing, so the decoder reports the file as truncated.
+class BoundedMemReader final : public OIIO::Filesystem::IOMemReader {
+ public:
+  using IOMemReader::IOMemReader;
+  bool seek(int64_t offset) override {
+    if (offset < 0 || uint64_t(offset) > m_buf.size()) return false;
+    return IOMemReader::seek(offset);
+  }
+  size_t pread(void* buf, size_t size, int64_t offset) override {
+    if (offset < 0 || uint64_t(offset) > m_buf.size()) return 0;
+    return IOMemReader::pread(buf, size, offset);
+  }
+  size_t read(void* buf, size_t size) override {
+    const size_t n = pread(buf, size, m_pos);
+    m_pos += int64_t(n);
+    return n;
+  }
+};
+
 // sRGB transfer function (IEC 61966-2-1): linear 0..1 -> 0..255.
 float LinearToSrgb255(double linear) {
   const double v = linear <= 0.0031308 ? linear * 12.92 : 1.055 * std::pow(linear, 1 / 2.4) - 0.055;
@@ -177,7 +199,7 @@ StatusOr<OiioDecoded> Decode(const std::vector<uint8_t>& bytes, const std::strin
   try {
     // The bytes are read through an IOProxy; with a config, OpenImageIO 2.4 takes the proxy
     // from the config's "oiio:ioproxy" (a pointer to the proxy pointer) as well.
-    OIIO::Filesystem::IOMemReader reader(bytes.data(), bytes.size());
+    BoundedMemReader reader(bytes.data(), bytes.size());
     OIIO::Filesystem::IOProxy* proxy = &reader;
     OIIO::ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1);  // keep PNG/TIFF alpha straight, as stored
