@@ -245,13 +245,7 @@ TEST_CASE("colours in the tag stream: smaller, and exactly the colours of neighb
   CompressOptions options;
   options.position_bits = 12;
   options.color_coding = ColorCoding::kSmallest;
-  auto file = sdvi::EncodeImage(image, &options);
-  INFO(file.status().ToString());
-  REQUIRE(file.ok());
-  auto read = sdvi::DecodeImage(*file, "streamed.sdvi");
-  INFO(read.status().ToString());
-  REQUIRE(read.ok());
-  CHECK(read->vertices.size() == image.vertices.size());
+  CHECK(sdvi::testing::MustReadBack(image, options).vertices.size() == image.vertices.size());
 }
 
 TEST_CASE("colours in the tag stream are not taken without their options, nor for grey images",

@@ -77,13 +77,7 @@ TEST_CASE("positions in the tag stream: smaller on irregular samples, exactly th
     // Through the container (at 12 bits: at 10 some of these jittered triangles fold, which the
     // file writer refuses): what a reader of the file gets is the same image.
     if (position_bits < 12) continue;
-    auto file = sdvi::EncodeImage(image, &options);
-    INFO(file.status().ToString());
-    REQUIRE(file.ok());
-    auto read = sdvi::DecodeImage(*file, "streamed.sdvi");
-    INFO(read.status().ToString());
-    REQUIRE(read.ok());
-    CHECK(read->vertices.size() == b.vertices.size());
+    CHECK(sdvi::testing::MustReadBack(image, options).vertices.size() == b.vertices.size());
   }
 }
 

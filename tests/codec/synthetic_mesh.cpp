@@ -10,6 +10,7 @@
 #include <numeric>
 #include <random>
 #include <span>
+#include <utility>
 
 #include "grid_triangles.h"
 #include "sdvi/codec.h"
@@ -151,6 +152,16 @@ Image MustDecode(const std::vector<uint8_t>& payload) {
   INFO(status.ToString());
   REQUIRE(status.ok());
   return image;
+}
+
+Image MustReadBack(const Image& image, const CompressOptions& options) {
+  auto file = EncodeImage(image, &options);
+  INFO(file.status().ToString());
+  REQUIRE(file.ok());
+  auto read = DecodeImage(*file, "test.sdvi");
+  INFO(read.status().ToString());
+  REQUIRE(read.ok());
+  return *std::move(read);
 }
 
 }  // namespace sdvi::testing

@@ -47,4 +47,8 @@ std::vector<uint8_t> MustEncode(const Image& image, const CompressOptions& optio
 // decoder's message) when it does not decode.
 Image MustDecode(const std::vector<uint8_t>& payload);
 
+// The image a reader of the .sdvi file gets: image written with EncodeImage(options) and read
+// back with DecodeImage; fails the current test when either step fails.
+Image MustReadBack(const Image& image, const CompressOptions& options);
+
 }  // namespace sdvi::testing
