@@ -86,22 +86,6 @@ void AddFitTimes(const ColorFit& fit, VectorizeTimings& t) {
   t.solve += fit.seconds_solve;
 }
 
-// The phases' seconds between two snapshots of the running sums (a round's share); total is
-// their sum.
-VectorizeTimings RoundSeconds(const VectorizeTimings& now, const VectorizeTimings& before) {
-  VectorizeTimings d;
-  d.features = now.features - before.features;
-  d.triangulate = now.triangulate - before.triangulate;
-  d.flips = now.flips - before.flips;
-  d.surface = now.surface - before.surface;
-  d.coverage = now.coverage - before.coverage;
-  d.assemble = now.assemble - before.assemble;
-  d.solve = now.solve - before.solve;
-  d.refine = now.refine - before.refine;
-  d.total = d.features + d.triangulate + d.flips + d.surface + d.coverage + d.assemble + d.solve + d.refine;
-  return d;
-}
-
 // The colour fit's starting point (its conjugate gradients start from the vertices'
 // colours): a vertex at the position of one of previous's vertices keeps that vertex's
 // fitted colour, any other takes the raster's colour at its nearest pixel.
@@ -290,7 +274,7 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
   AddFitTimes(fit, seconds);
   double psnr = PsnrOf(fit.sum_squared_error, fit.domain_pixels);
   report.history.push_back({uint32_t(mesh.vertices.size()), uint32_t(mesh.triangles.size()),
-                            uint32_t(samples.size()), psnr, RoundSeconds(seconds, VectorizeTimings())});
+                            uint32_t(samples.size()), psnr, seconds - VectorizeTimings()});
   if (progress != nullptr) {
     progress->Update(1.0, std::to_string(mesh.triangles.size()) + " triangles, " +
                               std::to_string(psnr).substr(0, 5) + " dB");
@@ -384,7 +368,7 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
     psnr = PsnrOf(fit.sum_squared_error, fit.domain_pixels);
     report.iterations = round;
     report.history.push_back({uint32_t(mesh.vertices.size()), uint32_t(mesh.triangles.size()),
-                              uint32_t(added.size()), psnr, RoundSeconds(seconds, round_start)});
+                              uint32_t(added.size()), psnr, seconds - round_start});
     if (progress != nullptr) {
       progress->Update(1.0, std::to_string(mesh.triangles.size()) + " triangles, " +
                                 std::to_string(psnr).substr(0, 5) + " dB");
@@ -457,6 +441,23 @@ StatusOr<VectorizeResult> VectorizeGuarded(const Raster& raster, const Raster* m
 }
 
 }  // namespace
+
+VectorizeTimings operator-(const VectorizeTimings& a, const VectorizeTimings& b) {
+  VectorizeTimings d;
+  d.load = a.load - b.load;
+  d.features = a.features - b.features;
+  d.triangulate = a.triangulate - b.triangulate;
+  d.flips = a.flips - b.flips;
+  d.surface = a.surface - b.surface;
+  d.coverage = a.coverage - b.coverage;
+  d.assemble = a.assemble - b.assemble;
+  d.solve = a.solve - b.solve;
+  d.refine = a.refine - b.refine;
+  d.metrics = a.metrics - b.metrics;
+  d.total = d.features + d.triangulate + d.flips + d.surface + d.coverage + d.assemble + d.solve + d.refine +
+            d.metrics;
+  return d;
+}
 
 StatusOr<VectorizeResult> Vectorize(const Raster& raster, const Raster* mask,
                                     const VectorizeOptions& options) {

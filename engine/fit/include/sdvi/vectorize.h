@@ -105,6 +105,10 @@ struct VectorizeTimings {
   double total = 0;
 };
 
+// a - b phase by phase (a round's share of the running sums); total is the sum of the
+// differences from features to metrics, load left out.
+VectorizeTimings operator-(const VectorizeTimings& a, const VectorizeTimings& b);
+
 struct VectorizeIteration {
   uint32_t vertices = 0, triangles = 0;
   uint32_t added_samples = 0;  // samples added before this fit
