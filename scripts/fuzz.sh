@@ -5,7 +5,8 @@
 # low-priority process, starting from its committed seed corpus fuzz/corpus/TARGET. The
 # targets read .sdvi input with ReadOptions::verify_checksums off, so that mutated inputs
 # reach the checks behind the checksum; the library code is the shipped code.
-# New inputs go to $FUZZ_DIR/corpus-TARGET, crashing ones to $FUZZ_DIR/artifacts-TARGET.
+# New inputs go to $FUZZ_DIR/corpus-TARGET, crashing ones to $FUZZ_DIR/artifacts-TARGET,
+# with the sanitizer's report in $FUZZ_DIR/artifacts-TARGET/sanitizer.PID (printed on failure).
 #   usage: scripts/fuzz.sh [SECONDS (default 600; 0 = build only)] [TARGET|all (default all)]
 #   targets: decode         the .sdvi reader, DecodeSdvi (fuzz/fuzz_decode.cpp)
 #            draco_payload  the Draco payload decoder alone, DecodeDracoPayload
@@ -50,6 +51,7 @@ for t in $TARGETS; do BUILD_TARGETS="$BUILD_TARGETS fuzz_$t"; done
 cmake --build "$FUZZ_DIR" --target $BUILD_TARGETS -- -j"${FUZZ_JOBS:-2}" >/dev/null
 [ "$RUN_SECONDS" = 0 ] && exit 0
 status=0
+USER_ASAN_OPTIONS=${ASAN_OPTIONS:-} USER_UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1}
 for t in $TARGETS; do
   CORPUS="$FUZZ_DIR/corpus-$t"
   ARTIFACTS="$FUZZ_DIR/artifacts-$t"
@@ -64,12 +66,21 @@ for t in $TARGETS; do
   esac
   LOG=/dev/stderr
   [ "${FUZZ_QUIET:-0}" = 1 ] && LOG="$FUZZ_DIR/$t.log"
+  # Sanitizer reports go to files of their own: raster input captures the process's stderr
+  # while a library decodes, which would swallow a report printed there.
+  SANITIZER_LOG="$(cd "$ARTIFACTS" && pwd)/sanitizer"
+  rm -f "$SANITIZER_LOG".*
+  export ASAN_OPTIONS="${USER_ASAN_OPTIONS:+$USER_ASAN_OPTIONS:}log_path=$SANITIZER_LOG"
+  export UBSAN_OPTIONS="$USER_UBSAN_OPTIONS:log_path=$SANITIZER_LOG"
   # The first directory receives new inputs; the committed seeds are read only.
   nice -n "${FUZZ_NICE:-10}" "$FUZZ_DIR/fuzz/fuzz_$t" -max_total_time="$RUN_SECONDS" -max_len=65536 \
     -rss_limit_mb="${FUZZ_RSS_MB:-2048}" -timeout=60 -print_final_stats=1 \
     -artifact_prefix="$ARTIFACTS/" "$CORPUS" "$SEEDS" >"$LOG" 2>&1 || {
     echo "fuzz.sh: $t FAILED (see $LOG and $ARTIFACTS)" >&2
     [ "${FUZZ_QUIET:-0}" = 1 ] && tail -40 "$LOG" >&2
+    for report in "$SANITIZER_LOG".*; do
+      [ -f "$report" ] && { echo "fuzz.sh: $report:" >&2; cat "$report" >&2; }
+    done
     status=1
   }
 done
