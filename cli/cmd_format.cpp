@@ -146,7 +146,8 @@ int Info(const InfoArgs& args) {
                                           std::to_string(draco->version_minor)},
                   {"position_bits", draco->position_bits},
                   {"color_bits", draco->color_bits},
-                  {"colors", draco->grey                ? "grey"
+                  {"colors", draco->grey && draco->stream_colors ? "grey, neighbour mean, tag stream"
+                             : draco->grey                ? "grey"
                              : draco->stream_colors  ? "decorrelated, neighbour mean, tag stream"
                              : draco->neighbour_mean ? "decorrelated, neighbour mean"
                              : draco->decorrelated   ? "decorrelated"

@@ -26,7 +26,7 @@
 // start included) on each codec's file at the same PSNR.
 //
 //   bench_rd [--data DIR] [--out DIR] [--only SUBSTRING] [--class photos|graphics] [--budgets 10,25,50,100,200]
-//            [--threads N] [--baseline] [--variants v1,rd,rd0,rd11,rd13,rd14] [--codecs jpeg,webp,avif,jxl] [--no-plots] [--parts]
+//            [--threads N] [--baseline] [--variants v1,rd,rd0,rd11,rd13,rd14,rd15] [--codecs jpeg,webp,avif,jxl] [--no-plots] [--parts]
 //
 // sdvi files per budget (one vectorization): v1 = Draco at the steps v1 `vectorize --compress`
 // used (1% of the fit's MSE; container params recorded, as v1 wrote them), rd = what `vectorize --compress` writes now (CompressForRate,
@@ -36,7 +36,9 @@
 // RateOptions::features_first and neighbour_mean false; the A/B of spec/RATE.md 5).
 // rd13 = rd without positions in the tag stream (payload 1.3 at most: RateOptions::stream_positions
 // false; the A/B of spec/RATE.md 7). rd14 = rd without colours in the tag stream (payload 1.4 at
-// most: RateOptions::stream_colors false; the A/B of spec/RATE.md 8).
+// most: RateOptions::stream_colors false; the A/B of spec/RATE.md 8). rd15 = rd without a grey
+// image's colour in the tag stream (payload 1.5 at most: RateOptions::stream_grey_colors false;
+// the A/B of spec/RATE.md 9).
 // --variants picks them (default v1,rd); --baseline = --variants v1 (the BEFORE table). With
 // several variants each is also compared with the first (BD-rate sdvi against sdvi).
 // --codecs limits the codecs searched (the others print '-'; the searches dominate the time).
@@ -394,6 +396,7 @@ sdvi::StatusOr<std::vector<SdviPoint>> RunSdvi(const sdvi::Raster& raster, const
       rate.features_first = rate.neighbour_mean = variant != "rd11";
       rate.stream_positions = variant != "rd11" && variant != "rd13";
       rate.stream_colors = rate.stream_positions && variant != "rd14";
+      rate.stream_grey_colors = variant != "rd15";
       SDVI_ASSIGN_OR_RETURN(sdvi::RateResult r, sdvi::CompressForRate(result, raster, nullptr, options.fit, rate));
       p.file = std::move(r.file);
     }
@@ -499,8 +502,9 @@ int main(int argc, char** argv) {
       variants = split(next());
       if (variants.empty() || variants.size() > kMaxVariants) variants = {"?"};
       for (const std::string& v : variants) {
-        if (v != "v1" && v != "rd" && v != "rd0" && v != "rd11" && v != "rd13" && v != "rd14") {
-          std::fprintf(stderr, "bench_rd: --variants takes 1-%zu of v1, rd, rd0, rd11, rd13, rd14\n", kMaxVariants);
+        if (v != "v1" && v != "rd" && v != "rd0" && v != "rd11" && v != "rd13" && v != "rd14" &&
+            v != "rd15") {
+          std::fprintf(stderr, "bench_rd: --variants takes 1-%zu of v1, rd, rd0, rd11, rd13, rd14, rd15\n", kMaxVariants);
           return 1;
         }
       }
@@ -523,7 +527,7 @@ int main(int argc, char** argv) {
     } else {
       std::fprintf(stderr,
                    "usage: bench_rd [--data DIR] [--out DIR] [--only SUBSTRING] [--class photos|graphics] [--budgets 10,25,50,100,200] "
-                   "[--threads N] [--baseline] [--variants v1,rd,rd0,rd11,rd13,rd14] [--codecs jpeg,webp,avif,jxl] [--no-plots] [--parts]\n");
+                   "[--threads N] [--baseline] [--variants v1,rd,rd0,rd11,rd13,rd14,rd15] [--codecs jpeg,webp,avif,jxl] [--no-plots] [--parts]\n");
       return 1;
     }
   }
@@ -540,7 +544,7 @@ int main(int argc, char** argv) {
   const size_t nv = variants.size();
   std::printf("sdvi files: v1 = Draco at the v1 `vectorize --compress` steps (1%% of the fit's MSE); rd = "
               "`vectorize --compress` now (CompressForRate: RD-chosen steps, colours refitted); rd0 = rd without "
-              "the refit; rd11 = rd in payload 1.1 (crease edges before the feature layer, no neighbour-mean colours); rd13 = rd without positions in the tag stream (payload 1.3); rd14 = rd without colours in the tag stream (payload 1.4). Here: %s.\n", [&] {
+              "the refit; rd11 = rd in payload 1.1 (crease edges before the feature layer, no neighbour-mean colours); rd13 = rd without positions in the tag stream (payload 1.3); rd14 = rd without colours in the tag stream (payload 1.4); rd15 = rd without a grey image's colour in the tag stream (payload 1.5). Here: %s.\n", [&] {
                 std::string list;
                 for (const std::string& v : variants) list += (list.empty() ? "" : ", ") + v;
                 return list;

@@ -32,10 +32,10 @@ using codec_internal::MeshEdge;
 // Header layout (little-endian), 40 bytes.
 constexpr char kMagic[4] = {'S', 'D', 'R', 'C'};
 constexpr uint8_t kVersionMajor = 1;
-// Written: the lowest of 1.1 to 1.5 that allows the flags used (1.1: flag bits 3, 4 and 5
-// allowed; 1.2: bit 6 too; 1.3: bit 7 too; 1.4: the second flag byte's bit 0; 1.5: its bit 1);
-// read: 1.0 .. 1.5 (spec/FORMAT.md 8.1).
-constexpr uint8_t kVersionMinor = 5;
+// Written: the lowest of 1.1 to 1.6 that allows the flags used (1.1: flag bits 3, 4 and 5
+// allowed; 1.2: bit 6 too; 1.3: bit 7 too; 1.4: the second flag byte's bit 0; 1.5: its bit 1;
+// 1.6: its bit 1 with the grey flag); read: 1.0 .. 1.6 (spec/FORMAT.md 8.1).
+constexpr uint8_t kVersionMinor = 6;
 constexpr size_t kHeaderSize = 40;
 constexpr size_t kCrcOffset = 36;
 constexpr uint8_t kFlagVertexIds = 1;     // the Draco mesh has the vertex id attribute
@@ -48,7 +48,7 @@ constexpr uint8_t kFlagFeaturesFirst = 64;  // the feature layer first, polyline
 constexpr uint8_t kFlagMeanColors = 128;    // decorrelated colours predicted by the decoded neighbours' mean
 // Header byte 10, the second flag byte (payload 1.4; reserved and 0 before).
 constexpr uint8_t kFlag2Positions = 1;  // positions in the tag stream, not in the Draco mesh (8.7)
-constexpr uint8_t kFlag2Colors = 2;     // neighbour-mean colours in the tag stream too (payload 1.5, 8.8)
+constexpr uint8_t kFlag2Colors = 2;     // neighbour-mean colours (1.5, 8.8) or the grey value (1.6, 8.9) in the tag stream too
 constexpr uint8_t kKnownFlags = kFlagVertexIds | kFlagFeatureLayer | kFlagGrey | kFlagDecorrelated |
                                 kFlagCompactPairs | kFlagRankedStarts | kFlagFeaturesFirst | kFlagMeanColors;
 
@@ -91,6 +91,18 @@ bool ColorFromGrid(const std::array<double, 3>& origin, double step, const std::
   p->r = back[0];
   p->g = back[1];
   p->b = back[2];
+  return true;
+}
+
+// Vertex p's colour from the colour stream's grid (payload 1.5: through ColorFromGrid; grey,
+// payload 1.6: R = G = B = origin + q step in double, rounded to float); false when a float
+// cannot hold it.
+bool ColorFromStream(const codec_internal::ColorStream& grid, size_t p, Vertex* v) {
+  if (grid.components != 1)
+    return ColorFromGrid({grid.origin[0], grid.origin[1], grid.origin[2]}, grid.step, grid.q[p], v);
+  const double value = double(grid.origin[0]) + double(grid.q[p][0]) * grid.step;
+  if (!(std::abs(value) <= std::numeric_limits<float>::max())) return false;
+  v->r = v->g = v->b = static_cast<float>(value);
   return true;
 }
 
@@ -151,7 +163,7 @@ StatusOr<Header> ParseHeader(std::span<const uint8_t> payload, const std::string
   if (h.major != kVersionMajor || h.minor > kVersionMinor)
     return Status(h.major < kVersionMajor ? StatusCode::kCorrupt : StatusCode::kUnsupportedVersion,
                   what + " has version " + std::to_string(h.major) + "." +
-                      std::to_string(h.minor) + "; this build reads versions 1.0 to 1.5");
+                      std::to_string(h.minor) + "; this build reads versions 1.0 to 1.6");
   constexpr uint8_t kFlags11 = kFlagDecorrelated | kFlagCompactPairs | kFlagRankedStarts;
   constexpr uint8_t kFlagsUnderFirst = kFlagFeatureLayer | kFlagCompactPairs | kFlagRankedStarts;
   if ((h.flags & ~kKnownFlags) || (h.minor == 0 && (h.flags & kFlags11)) ||
@@ -161,7 +173,9 @@ StatusOr<Header> ParseHeader(std::span<const uint8_t> payload, const std::string
       ((h.flags & kFlagFeaturesFirst) && (h.flags & kFlagsUnderFirst) != kFlagsUnderFirst) ||
       (h.minor >= 4 && (payload[11] != 0 || (h.flags2 & ~(kFlag2Positions | kFlag2Colors)))) ||
       ((h.flags2 & kFlag2Positions) && (h.flags & kFlagVertexIds)) ||
-      ((h.flags2 & kFlag2Colors) && (h.minor < 5 || !(h.flags2 & kFlag2Positions) || !(h.flags & kFlagMeanColors))))
+      ((h.flags2 & kFlag2Colors) &&
+       (h.minor < 5 || !(h.flags2 & kFlag2Positions) ||
+        !((h.flags & kFlagMeanColors) || (h.minor >= 6 && (h.flags & kFlagGrey))))))
     return Status(StatusCode::kCorrupt, what + " (version " + std::to_string(h.major) + "." +
                                             std::to_string(h.minor) + ") has unknown flags " +
                                             std::to_string(h.flags) + ", " + std::to_string(h.flags2));
@@ -343,6 +357,28 @@ StatusOr<MeanColors> MeanColorIndices(const Image& image, const std::vector<uint
         return Status(StatusCode::kInvalidArgument, "a colour residual does not fit 32 bits");
       out.residuals[p][k] = static_cast<int32_t>(r);
     }
+  return out;
+}
+
+// A grey image's colour stream (payload 1.6): the grey value on a grid of step from its minimum,
+// the indices in the decoded order (vertex i is point decoded_index[i]). Fails
+// (kInvalidArgument) when an index exceeds 2^30 (its residuals must stay below 2^31).
+StatusOr<codec_internal::ColorStream> GreyColorIndices(const Image& image, const std::vector<uint32_t>& decoded_index,
+                                                      double step) {
+  codec_internal::ColorStream out;
+  out.components = 1;
+  out.step = step;
+  out.origin.fill(0.f);
+  float origin = std::numeric_limits<float>::infinity();
+  for (const Vertex& v : image.vertices) origin = std::min(origin, v.r);
+  out.origin[0] = origin;
+  out.q.assign(image.vertices.size(), {0, 0, 0});
+  for (size_t i = 0; i < image.vertices.size(); ++i) {
+    const double q = std::round((double(image.vertices[i].r) - double(origin)) / step);
+    if (!(q >= 0 && q <= double(int64_t{1} << 30)))
+      return Status(StatusCode::kInvalidArgument, "a grey colour index exceeds 2^30");
+    out.q[decoded_index[i]][0] = static_cast<int64_t>(q);
+  }
   return out;
 }
 
@@ -1060,8 +1096,11 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
   // numbering maps to the new one corner by corner (checked to be one to one, the faces then
   // checked against the image's, the colours within the decorrelated bound). Kept when the
   // payload is smaller.
+  // A grey image (payload 1.6) codes its one component, the grey value, on the grid of the
+  // grey Draco COLOR's step, so with the same error bound.
   bool stream_colors = false;
-  if (positions_streamable && !grey && options.neighbour_mean && options.stream_colors) {
+  if (positions_streamable && options.stream_colors &&
+      (grey ? options.stream_grey_colors : options.neighbour_mean)) {
     try {
       const std::string self = "compressed image (self-check)";
       StatusOr<std::vector<uint8_t>> bytes =
@@ -1086,17 +1125,20 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
         same = order[i] != kUnset;
       }
       same = same && FacesInOrder(alone->faces, image, order);
-      StatusOr<MeanColors> colors = same ? MeanColorIndices(image, order, color_step)
-                                         : StatusOr<MeanColors>(Status(StatusCode::kInternal, "no order"));
+      StatusOr<codec_internal::ColorStream> colors = Status(StatusCode::kInternal, "no order");
+      if (same && grey) {
+        colors = GreyColorIndices(image, order, color_step);
+      } else if (same) {
+        StatusOr<MeanColors> mean = MeanColorIndices(image, order, color_step);
+        colors = mean.ok() ? StatusOr<codec_internal::ColorStream>(std::move(mean->grid)) : mean.status();
+      }
       same = same && colors.ok();
       if (same) {
-        const ErrorBound bound = CompressionErrorBound(image, position_bits, color_bits, true);
-        const auto& grid = colors->grid;
-        const std::array<double, 3> origin = {grid.origin[0], grid.origin[1], grid.origin[2]};
+        const ErrorBound bound = CompressionErrorBound(image, position_bits, color_bits, !grey);
         for (uint32_t i = 0; i < n && same; ++i) {
           Vertex a;
           const Vertex& b = image.vertices[i];
-          same = ColorFromGrid(origin, grid.step, grid.q[order[i]], &a) && std::abs(a.r - b.r) <= bound.color &&
+          same = ColorFromStream(*colors, order[i], &a) && std::abs(a.r - b.r) <= bound.color &&
                  std::abs(a.g - b.g) <= bound.color && std::abs(a.b - b.b) <= bound.color;
         }
       }
@@ -1107,12 +1149,13 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
           positions.q[order[i]] = position_stream.q[renumbering[i]];
           decoded[order[i]] = chosen.decoded[renumbering[i]];
         }
-        SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> tags_with, encode_tags(order, &positions, &colors->grid, decoded));
+        SDVI_ASSIGN_OR_RETURN(std::vector<uint8_t> tags_with, encode_tags(order, &positions, &*colors, decoded));
         if (bytes->size() + tags_with.size() < draco_bytes.size() + tags.size()) {
           draco_bytes = std::move(bytes).value();
           tags = std::move(tags_with);
           renumbering = std::move(order);
-          stream_positions = stream_colors = decorrelated = mean_colors = true;
+          stream_positions = stream_colors = true;
+          decorrelated = mean_colors = !grey;
         }
       }
     } catch (const std::bad_alloc&) {
@@ -1123,7 +1166,7 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
   std::vector<uint8_t> payload(kHeaderSize + draco_bytes.size() + tags.size(), 0);
   std::memcpy(payload.data(), kMagic, 4);
   payload[4] = kVersionMajor;
-  payload[5] = stream_colors ? 5 : stream_positions ? 4 : mean_colors ? 3 : features_first ? 2 : 1;
+  payload[5] = stream_colors && grey ? 6 : stream_colors ? 5 : stream_positions ? 4 : mean_colors ? 3 : features_first ? 2 : 1;
   payload[6] = static_cast<uint8_t>((with_ids ? kFlagVertexIds : 0) |
                                     (options.feature_layer ? kFlagFeatureLayer : 0) |
                                     (grey ? kFlagGrey : 0) | (decorrelated ? kFlagDecorrelated : 0) |
@@ -1174,7 +1217,7 @@ Status DecodeDracoPayload(std::span<const uint8_t> payload, const std::string& s
                                           (h.flags & kFlagDecorrelated) && !stream_colors,
                                           (h.flags & kFlagMeanColors) && !stream_colors,
                                           (h.flags2 & kFlag2Positions) != 0, stream_colors));
-    if (mesh.grey != ((h.flags & kFlagGrey) != 0))
+    if (!stream_colors && mesh.grey != ((h.flags & kFlagGrey) != 0))
       return Status(StatusCode::kCorrupt, what + ": the Draco COLOR attribute has " +
                                               (mesh.grey ? "1 component" : "3 components") +
                                               ", the header's grey flag says otherwise");
@@ -1226,6 +1269,7 @@ Status DecodeDracoPayload(std::span<const uint8_t> payload, const std::string& s
     CanonicalizeTriangles(&out.triangles);
     codec_internal::Tags tags;
     codec_internal::ColorStream colors;
+    colors.components = (h.flags & kFlagGrey) ? 1 : 3;
     SDVI_RETURN_IF_ERROR(codec_internal::DecodeTags(
         payload.subspan(kHeaderSize + h.draco_size, h.tags_size), n,
         codec_internal::CollectMeshEdges(out.triangles), h.crease_edge_count, h.corner_count,
@@ -1234,9 +1278,8 @@ Status DecodeDracoPayload(std::span<const uint8_t> payload, const std::string& s
         out.vertices, h.position_bits, (h.flags2 & kFlag2Positions) ? &out.vertices : nullptr,
         stream_colors ? &colors : nullptr));
     if (stream_colors) {
-      const std::array<double, 3> origin = {colors.origin[0], colors.origin[1], colors.origin[2]};
       for (size_t i = 0; i < n; ++i)
-        if (!ColorFromGrid(origin, colors.step, colors.q[i], &out.vertices[i]))
+        if (!ColorFromStream(colors, i, &out.vertices[i]))
           return Status(StatusCode::kCorrupt, what + ": vertex " + std::to_string(i) + "'s colour lies off its grid");
     }
     if (h.flags2 & kFlag2Positions)
@@ -1315,6 +1358,7 @@ StatusOr<PartBytes> codec_internal::MeasureDracoParts(std::span<const uint8_t> p
       parts.positions = std::min<uint64_t>(rc.position(), h.tags_size);
       if (h.flags2 & kFlag2Colors) {
         codec_internal::ColorStream colors;
+        colors.components = (h.flags & kFlagGrey) ? 1 : 3;
         SDVI_RETURN_IF_ERROR(codec_internal::DecodeColors(rc, h.vertex_count, edges, source_name, &colors));
         colors_in_stream = std::min<uint64_t>(rc.position(), h.tags_size) - parts.positions;
       }

@@ -111,6 +111,7 @@ StatusOr<RateResult> CompressForRate(const VectorizeResult& vectorized, const Ra
     compress.neighbour_mean = options.neighbour_mean;
     compress.stream_positions = options.stream_positions;
     compress.stream_colors = options.stream_colors;
+    compress.stream_grey_colors = options.stream_grey_colors;
     // Positions that fold a triangle at these bits: the few vertices of the folds move to
     // nearby grid points (spec/RATE.md 3) instead of every vertex getting a finer step.
     const Image* positions = &image;

@@ -4,7 +4,8 @@
 // adaptive models; the Draco mesh holds the connectivity alone. The smallest colour coding tries
 // them and keeps them where the payload is smaller; they decode to exactly the colours of the
 // Draco-coded neighbour-mean colours; a stream built by hand from the spec decodes to the values
-// the spec gives; the header rules; damaged bytes are errors, never crashes.
+// the spec gives; the header rules; damaged bytes are errors, never crashes. A grey image's one
+// component coded the same way (payload 1.6, 8.9): the same checks.
 #include <catch2/catch.hpp>
 
 #include <array>
@@ -98,10 +99,12 @@ struct HandBuilt {
 
 enum class Damage { kNone, kZeroStep, kNanOrigin, kEndlessResidual };
 
-// A payload 1.5 for the connectivity of `writer_payload` (a 1.5 payload of a mesh without
-// crease edges, corners or feature layer): its header and Draco mesh, and a tag stream written
-// here from spec/FORMAT.md 8.7, 8.8 and 8.5 steps 1-2, with chosen grids and indices.
-HandBuilt BuildByHand(const std::vector<uint8_t>& writer_payload, Damage damage = Damage::kNone) {
+// A payload 1.5 (grey: 1.6) for the connectivity of `writer_payload` (a 1.5 or 1.6 payload of a
+// mesh without crease edges, corners or feature layer): its header and Draco mesh, and a tag
+// stream written here from spec/FORMAT.md 8.7, 8.8 (grey: 8.9) and 8.5 steps 1-2, with chosen
+// grids and indices.
+HandBuilt BuildByHand(const std::vector<uint8_t>& writer_payload, Damage damage = Damage::kNone,
+                      bool grey = false) {
   const Image mesh = MustDecode(writer_payload);
   const size_t n = mesh.vertices.size();
   // Earlier neighbours and the edges (a < b, sorted) with their triangle counts.
@@ -138,13 +141,15 @@ HandBuilt BuildByHand(const std::vector<uint8_t>& writer_payload, Damage damage 
     out.expected[v].y = float(float(qy[v]) * d) + min_y;
   }
   // 8.8: step 0.375 (1/2.666...), origins; per vertex L, C1, C2 indices, one of them large (a
-  // residual of 2^20 and more: the top-bit model and 19 direct bits).
+  // residual of 2^20 and more: the top-bit model and 19 direct bits). 8.9 (grey): the same
+  // step, the first origin and the first component only.
   const double step = damage == Damage::kZeroStep ? 0.0 : 0.375;
   const float origin[3] = {damage == Damage::kNanOrigin ? std::nanf("") : 12.5f, -40.f, -7.25f};
+  const int components = grey ? 1 : 3;
   const uint64_t step_bits = std::bit_cast<uint64_t>(step);
   rc.EncodeDirect(static_cast<uint32_t>(step_bits >> 32), 32);
   rc.EncodeDirect(static_cast<uint32_t>(step_bits), 32);
-  for (float o : origin) rc.EncodeDirect(std::bit_cast<uint32_t>(o), 32);
+  for (int k = 0; k < components; ++k) rc.EncodeDirect(std::bit_cast<uint32_t>(origin[k]), 32);
   std::array<std::vector<int64_t>, 3> q;
   for (auto& c : q) c.assign(n, 0);
   std::array<SpecModels, 3> mc;
@@ -152,9 +157,14 @@ HandBuilt BuildByHand(const std::vector<uint8_t>& writer_payload, Damage damage 
     q[0][v] = 300 + 13 * int64_t(v) - (v == 4 ? (int64_t{1} << 21) + 12345 : 0);
     q[1][v] = int64_t(v % 3) - 1;
     q[2][v] = -2 * int64_t(v);
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < components; ++k) {
       const int64_t r = q[k][v] - SpecPrediction(earlier, q[k], v);
-      SpecResidual(rc, mc[k], r, damage == Damage::kEndlessResidual && v == 2 && k == 1 ? 32 : 0);
+      SpecResidual(rc, mc[k], r, damage == Damage::kEndlessResidual && v == 2 && k == components / 2 ? 32 : 0);
+    }
+    if (grey) {  // 8.9 step 4
+      out.expected[v].r = out.expected[v].g = out.expected[v].b =
+          static_cast<float>(double(origin[0]) + double(q[0][v]) * step);
+      continue;
     }
     // 8.8 step 4 and the inverse transform of 8.2, as the spec gives them.
     float lcc[3];
@@ -175,7 +185,7 @@ HandBuilt BuildByHand(const std::vector<uint8_t>& writer_payload, Damage damage 
   const uint32_t draco_size = GetU32(writer_payload, 28);
   out.payload.assign(writer_payload.begin(), writer_payload.begin() + 40 + draco_size);
   out.payload.insert(out.payload.end(), tags.begin(), tags.end());
-  out.payload[6] = 8 | 128;  // decorrelated, neighbour mean; no feature layer
+  out.payload[6] = grey ? 4 : 8 | 128;  // grey, or decorrelated and neighbour mean; no feature layer
   out.payload[7] = bits;
   out.payload[10] = 3;  // positions and colours in the tag stream
   PutU32(&out.payload, 20, 0);
@@ -185,9 +195,12 @@ HandBuilt BuildByHand(const std::vector<uint8_t>& writer_payload, Damage damage 
   return out;
 }
 
-// A small image whose smallest payload is 1.5, without crease edges, corners or feature layer.
-std::vector<uint8_t> WriterPayloadWithoutTags() {
+// A small image whose smallest payload is 1.5 (grey: 1.6), without crease edges, corners or
+// feature layer.
+std::vector<uint8_t> WriterPayloadWithoutTags(bool grey = false) {
   Image image = sdvi::testing::PhotoLikeGridImage(21, 8);
+  if (grey)
+    for (auto& v : image.vertices) v.g = v.b = v.r;
   image.crease_edges.clear();
   image.corners.clear();
   image.polylines.clear();
@@ -248,7 +261,7 @@ TEST_CASE("colours in the tag stream: smaller, and exactly the colours of neighb
   CHECK(sdvi::testing::MustReadBack(image, options).vertices.size() == image.vertices.size());
 }
 
-TEST_CASE("colours in the tag stream are not taken without their options, nor for grey images",
+TEST_CASE("colours in the tag stream are not taken without their options",
           "[codec][colors][color_stream]") {
   const Image image = sdvi::testing::PhotoLikeGridImage(6);
   CompressOptions options;
@@ -263,11 +276,19 @@ TEST_CASE("colours in the tag stream are not taken without their options, nor fo
   options.color_coding = ColorCoding::kDecorrelated;
   CHECK(MustEncode(image, options)[5] < 4);
   options.color_coding = ColorCoding::kSmallest;
+  // A grey image: its one component (payload 1.6) only with stream_grey_colors and stream_colors.
   Image grey = image;
   for (auto& v : grey.vertices) v.g = v.b = v.r;
-  const std::vector<uint8_t> grey_payload = MustEncode(grey, options);
+  options.stream_grey_colors = false;
+  std::vector<uint8_t> grey_payload = MustEncode(grey, options);
   CHECK((grey_payload[10] & 2) == 0);
   CHECK((grey_payload[6] & 4) != 0);
+  CHECK(grey_payload[5] < 5);
+  options.stream_grey_colors = true;
+  options.stream_colors = false;
+  grey_payload = MustEncode(grey, options);
+  CHECK((grey_payload[10] & 2) == 0);
+  CHECK(grey_payload[5] < 5);
 }
 
 TEST_CASE("a colour stream built by hand from the spec decodes to the values it gives",
@@ -300,6 +321,23 @@ TEST_CASE("a colour stream built by hand from the spec decodes to the values it 
     const HandBuilt bad = BuildByHand(writer, damage);
     const sdvi::Status refused = sdvi::DecodeDracoPayload(bad.payload, "bad.sdvi", &decoded);
     INFO(refused.ToString());
+    CHECK(refused.code() == StatusCode::kCorrupt);
+    CHECK(refused.message().find("bad.sdvi") != std::string::npos);
+  }
+  const HandBuilt grey = BuildByHand(WriterPayloadWithoutTags(true), Damage::kNone, true);
+  REQUIRE(grey.payload[5] == 6);
+  const sdvi::Status grey_status = sdvi::DecodeDracoPayload(grey.payload, "grey.sdvi", &decoded);
+  INFO(grey_status.ToString());
+  REQUIRE(grey_status.ok());
+  REQUIRE(decoded.vertices.size() == grey.expected.size());
+  for (size_t v = 0; v < grey.expected.size(); ++v) {
+    INFO("grey vertex " << v);
+    CHECK(std::memcmp(&decoded.vertices[v], &grey.expected[v], sizeof(sdvi::Vertex)) == 0);
+  }
+  for (Damage damage : {Damage::kZeroStep, Damage::kNanOrigin, Damage::kEndlessResidual}) {
+    const HandBuilt bad = BuildByHand(WriterPayloadWithoutTags(true), damage, true);
+    const sdvi::Status refused = sdvi::DecodeDracoPayload(bad.payload, "bad.sdvi", &decoded);
+    INFO("grey: " << refused.ToString());
     CHECK(refused.code() == StatusCode::kCorrupt);
     CHECK(refused.message().find("bad.sdvi") != std::string::npos);
   }
@@ -364,4 +402,121 @@ TEST_CASE("the golden payload 1.5 file reads (kept forever)", "[codec][colors][c
   // The built-in sample (`sdvi sample`) vectorized by `sdvi vectorize s.png -o s.sdvi --compress
   // --compression-ratio 600`: positions and colours in the tag stream, features first.
   sdvi::testing::CheckGoldenFile("golden_draco_v1_5");
+}
+
+TEST_CASE("a grey image's colour in the tag stream (payload 1.6): smaller, R = G = B on the grey grid",
+          "[codec][colors][color_stream][grey]") {
+  Image grey = sdvi::testing::PhotoLikeGridImage(5);
+  for (auto& v : grey.vertices) v.g = v.b = v.r;
+  float lo = grey.vertices[0].r, hi = lo;
+  for (const auto& v : grey.vertices) lo = std::min(lo, v.r), hi = std::max(hi, v.r);
+  for (int color_bits : {6, 8}) {
+    INFO("colour bits " << color_bits);
+    CompressOptions options;
+    options.position_bits = 12;
+    options.color_bits = color_bits;
+    options.color_coding = ColorCoding::kSmallest;
+    std::vector<uint32_t> streamed_index, in_draco_index;
+    const std::vector<uint8_t> streamed = MustEncode(grey, options, &streamed_index);
+    options.stream_grey_colors = false;
+    const std::vector<uint8_t> in_draco = MustEncode(grey, options, &in_draco_index);
+    options.stream_grey_colors = true;
+    REQUIRE(streamed.size() > 40);
+    CHECK(streamed[5] == 6);                         // payload 1.6
+    CHECK(streamed[10] == 3);                        // positions and the grey value in the tag stream
+    CHECK((streamed[6] & (128 | 8 | 4 | 1)) == 4);  // grey; not decorrelated, no ids
+    // Without it: positions in the tag stream, the grey COLOR in Draco.
+    REQUIRE(in_draco[5] == 4);
+    REQUIRE(in_draco[10] == 1);
+    REQUIRE((in_draco[6] & 4) != 0);
+    CHECK(streamed.size() < in_draco.size());
+    CHECK(MustEncode(grey, options) == streamed);  // deterministic
+    auto info = sdvi::InspectDracoPayload(streamed, "grey");
+    REQUIRE(info.ok());
+    CHECK(info->grey);
+    CHECK(info->stream_colors);
+    CHECK(info->stream_positions);
+    CHECK_FALSE(info->neighbour_mean);
+    // The same positions and tags bit for bit; R = G = B within half a grey step of the image's.
+    const Image a = InOriginalNumbering(in_draco, in_draco_index);
+    const Image b = InOriginalNumbering(streamed, streamed_index);
+    REQUIRE(a.vertices.size() == b.vertices.size());
+    CHECK(a.triangles == b.triangles);
+    CHECK(a.crease_edges == b.crease_edges);
+    CHECK(a.corners == b.corners);
+    CHECK(a.polylines == b.polylines);
+    CHECK(a.pairs == b.pairs);
+    const double step = (double(hi) - double(lo)) / double((1 << color_bits) - 1);
+    for (size_t i = 0; i < b.vertices.size(); ++i) {
+      INFO("vertex " << i);
+      CHECK(std::bit_cast<uint32_t>(a.vertices[i].x) == std::bit_cast<uint32_t>(b.vertices[i].x));
+      CHECK(std::bit_cast<uint32_t>(a.vertices[i].y) == std::bit_cast<uint32_t>(b.vertices[i].y));
+      CHECK(b.vertices[i].r == b.vertices[i].g);
+      CHECK(b.vertices[i].r == b.vertices[i].b);
+      CHECK(std::abs(double(b.vertices[i].r) - double(grey.vertices[i].r)) <= 0.5 * step * (1 + 1e-5));
+    }
+    auto parts = sdvi::codec_internal::MeasureDracoParts(streamed, "grey");
+    REQUIRE(parts.ok());
+    CHECK(parts->colors > 50);
+    CHECK(parts->connectivity + parts->positions + parts->colors + parts->tags + parts->feature_layer ==
+          GetU32(streamed, 28) + GetU32(streamed, 32));
+  }
+}
+
+TEST_CASE("a grey image's colour in the tag stream: header rules and damaged bytes",
+          "[codec][colors][color_stream][grey][corrupt]") {
+  Image grey = sdvi::testing::PhotoLikeGridImage(7);
+  for (auto& v : grey.vertices) v.g = v.b = v.r;
+  CompressOptions options;
+  options.color_coding = ColorCoding::kSmallest;
+  options.position_bits = 12;
+  const std::vector<uint8_t> good = MustEncode(grey, options);
+  REQUIRE(good[5] == 6);
+  REQUIRE(good[10] == 3);
+  Image out;
+  // In a 1.5 payload, without the positions' flag, without the grey flag (no colour coding
+  // left), with decorrelated colours too: corrupt.
+  for (const auto& [at, value] : std::vector<std::pair<size_t, uint8_t>>{
+           {5, 5}, {10, 2}, {6, static_cast<uint8_t>(good[6] & ~4)}, {6, static_cast<uint8_t>(good[6] | 8)}}) {
+    std::vector<uint8_t> bad = good;
+    bad[at] = value;
+    sdvi::testing::FixPayloadChecksum(&bad);
+    const sdvi::Status status = sdvi::DecodeDracoPayload(bad, "grey.sdvi", &out);
+    INFO(at << " = " << int(value) << ": " << status.ToString());
+    CHECK(status.code() == StatusCode::kCorrupt);
+    CHECK(status.message().find("grey.sdvi") != std::string::npos);
+  }
+  // The flag set on a payload whose Draco mesh has the grey COLOR: corrupt; cleared on a 1.6
+  // payload: the Draco mesh has no COLOR attribute.
+  {
+    options.stream_grey_colors = false;
+    std::vector<uint8_t> bad = MustEncode(grey, options);
+    options.stream_grey_colors = true;
+    REQUIRE(bad[10] == 1);
+    bad[5] = 6;
+    bad[10] = 3;
+    sdvi::testing::FixPayloadChecksum(&bad);
+    CHECK(sdvi::DecodeDracoPayload(bad, "grey.sdvi", &out).code() == StatusCode::kCorrupt);
+    bad = good;
+    bad[10] = 1;
+    sdvi::testing::FixPayloadChecksum(&bad);
+    CHECK(sdvi::DecodeDracoPayload(bad, "grey.sdvi", &out).code() == StatusCode::kCorrupt);
+  }
+  // Cut short: corrupt.
+  std::vector<uint8_t> cut = good;
+  const uint32_t tags = GetU32(cut, 32);
+  cut.resize(cut.size() - tags / 2);
+  PutU32(&cut, 32, tags - tags / 2);
+  sdvi::testing::FixPayloadChecksum(&cut);
+  CHECK(sdvi::DecodeDracoPayload(cut, "cut.sdvi", &out).code() == StatusCode::kCorrupt);
+  // Damaged bytes behind a valid checksum: errors or images, never a crash; many are errors.
+  int tried = 0;
+  const int errors = sdvi::testing::DamagedPayloadErrors(good, 5, 3, &tried);
+  CHECK(errors > tried / 4);
+}
+
+TEST_CASE("the golden payload 1.6 file reads (kept forever)", "[codec][colors][color_stream][grey]") {
+  // The built-in sample's red channel as a grey PNG, vectorized by `sdvi vectorize g.png -o
+  // g.sdvi --compress --compression-ratio 600`: positions and the grey value in the tag stream.
+  sdvi::testing::CheckGoldenFile("golden_draco_v1_6");
 }

@@ -76,6 +76,9 @@ struct CompressOptions {
   // tag stream after the positions, the Draco mesh left with the connectivity alone (payload
   // 1.5, spec/FORMAT.md 8.8), kept when the payload is smaller.
   bool stream_colors = true;
+  // With stream_colors and a grey image (R = G = B at every vertex): also try its one colour
+  // component coded in the tag stream the same way (payload 1.6, spec/FORMAT.md 8.9).
+  bool stream_grey_colors = true;
   // Repeat the payload header's settings as container params (spec/FORMAT.md 8): what v1.0
   // writers did; redundant with the header and ~220 bytes a file, so off by default.
   bool container_params = false;
@@ -177,7 +180,7 @@ struct DracoPayloadInfo {
   bool decorrelated = false;  // colours coded as L, C1, C2 (ColorCoding::kDecorrelated)
   bool neighbour_mean = false;  // ... predicted by the decoded neighbours' mean (payload 1.3)
   bool stream_positions = false;  // positions in the tag stream, not in the Draco mesh (payload 1.4)
-  bool stream_colors = false;     // neighbour-mean colours in the tag stream too (payload 1.5)
+  bool stream_colors = false;     // neighbour-mean colours (payload 1.5) or, grey, the grey value (1.6) in the tag stream too
 };
 StatusOr<DracoPayloadInfo> InspectDracoPayload(std::span<const uint8_t> payload,
                                                const std::string& source_name);

@@ -52,6 +52,7 @@ struct RateOptions {
   bool neighbour_mean = true;  // kSmallest also tries neighbour-mean colours (payload 1.3), sdvi/codec.h
   bool stream_positions = true;  // kSmallest also tries positions in the tag stream (payload 1.4), sdvi/codec.h
   bool stream_colors = true;  // ... and the colours there too (payload 1.5), sdvi/codec.h
+  bool stream_grey_colors = true;  // ... and a grey image's one component there (payload 1.6), sdvi/codec.h
   int threads = 1;
 };
 
