@@ -197,11 +197,11 @@ TEST_CASE("decorrelated payload header rules", "[codec][colors][corrupt]") {
   // A later minor version: unsupported (its stream may mean something else); an unknown
   // flag, or the decorrelated flag in a 1.0 payload: corrupt.
   bad = good;
-  bad[5] = 6;
+  bad[5] = 7;
   sdvi::testing::FixPayloadChecksum(&bad);
   status = sdvi::DecodeDracoPayload(bad, "later.sdvi", &out);
   CHECK(status.code() == StatusCode::kUnsupportedVersion);
-  CHECK(status.message().find("1.6") != std::string::npos);
+  CHECK(status.message().find("1.7") != std::string::npos);
   bad = good;
   bad[6] |= 128;
   sdvi::testing::FixPayloadChecksum(&bad);
