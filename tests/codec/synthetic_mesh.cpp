@@ -107,6 +107,21 @@ int DamagedPayloadErrors(const std::vector<uint8_t>& good, size_t draco_step, si
   return errors;
 }
 
+void CheckRefused(const std::vector<uint8_t>& good, const std::vector<std::pair<size_t, uint8_t>>& byte_values,
+                  const std::string& name) {
+  for (const auto& [at, value] : byte_values) {
+    REQUIRE(at < good.size());
+    std::vector<uint8_t> bad = good;
+    bad[at] = value;
+    FixPayloadChecksum(&bad);
+    Image out;
+    const Status status = DecodeDracoPayload(bad, name, &out);
+    INFO(at << " = " << int(value) << ": " << status.ToString());
+    CHECK(status.code() == StatusCode::kCorrupt);
+    CHECK(status.message().find(name) != std::string::npos);
+  }
+}
+
 std::vector<uint8_t> MustEncode(const Image& image, const CompressOptions& options,
                                 std::vector<uint32_t>* new_index) {
   auto payload = EncodeDracoPayload(image, options, new_index);

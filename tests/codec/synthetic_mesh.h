@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sdvi/codec.h"
@@ -37,6 +38,11 @@ void FixPayloadChecksum(std::vector<uint8_t>* payload);
 // byte of the Draco mesh and every stream_step-th byte after it, the checksum fixed) and
 // decodes each: never a crash. Returns how many of them were refused; *tried counts them.
 int DamagedPayloadErrors(const std::vector<uint8_t>& good, size_t draco_step, size_t stream_step, int* tried);
+
+// Sets each (byte, value) of a good Draco payload in turn (the checksum fixed) and checks that
+// the decoder refuses every one as kCorrupt with a message naming name.
+void CheckRefused(const std::vector<uint8_t>& good, const std::vector<std::pair<size_t, uint8_t>>& byte_values,
+                  const std::string& name);
 
 // The Draco payload of image; fails the current test (Catch2 REQUIRE, with the encoder's
 // message) when it does not encode.
