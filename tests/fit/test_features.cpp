@@ -127,6 +127,24 @@ TEST_CASE("flat images and detect_edges = false give no interior features", "[fe
   REQUIRE(off->empty());
 }
 
+TEST_CASE("a faint step keeps its edge when an explicit threshold is under its gradient", "[features]") {
+  // Contrast 3 (8-bit units): its colour range is under the default low threshold (0.4 x 8),
+  // so the passes are skipped and nothing is found; with high = 1 (low 0.4) the range does
+  // not rule edges out and the step's gradient (about 1.1) is found as an edge.
+  cv::Mat step(64, 64, CV_8UC3, cv::Scalar(100, 100, 100));
+  cv::rectangle(step, {32, 0}, {63, 63}, cv::Scalar(103, 103, 103), -1);
+  auto by_default = sdvi::DetectFeatures(ToRaster(step), nullptr, {});
+  REQUIRE(by_default.ok());
+  REQUIRE(by_default->empty());
+  sdvi::FeatureOptions low;
+  low.high_threshold = 1.0;
+  auto found = sdvi::DetectFeatures(ToRaster(step), nullptr, low);
+  REQUIRE(found.ok());
+  const FeatureCurve* c = Longest(*found);
+  REQUIRE(c != nullptr);
+  for (const Point2& p : c->points) REQUIRE(std::fabs(p.x - 32) < 1.5);
+}
+
 TEST_CASE("object mode: alpha gives boundary curves for the outline and the hole", "[features]") {
   cv::Mat img(200, 200, CV_8UC4, cv::Scalar(90, 120, 200, 0));
   cv::circle(img, {100, 100}, 80, cv::Scalar(90, 120, 200, 255), -1);

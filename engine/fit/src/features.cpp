@@ -514,6 +514,31 @@ void OtsuTwoClasses(const std::vector<double>& v, const std::vector<double>& wt,
   *mean_hi = hi_w > 0 ? hi_s / hi_w : 1;
 }
 
+// False when no pixel's gradient magnitude can reach the hysteresis' low threshold, so the
+// edge map is empty whatever the per-pixel passes compute (an image of one colour, or
+// nearly): the Gaussian keeps each channel within its range R, the Sobel derivative
+// (scaled by 1/8) is then at most R / 2 in x and in y, and the magnitude, the root of the
+// structure tensor's larger eigenvalue (at most its trace) over the channels, at most
+// R / sqrt(2). The test asks R < low, a margin far beyond the filters' rounding.
+bool CanHaveEdges(const Raster& image, const FeatureOptions& o) {
+  const double high = o.high_threshold > 0 ? o.high_threshold : o.min_high_threshold;
+  const double low = o.low_ratio * high;  // the low threshold is at least this
+  const int nc = image.channels >= 3 ? 3 : 1;
+  float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  const size_t pixels = size_t(image.width) * image.height;
+  for (size_t p = 0; p < pixels; ++p) {
+    const float* px = &image.data[p * size_t(image.channels)];
+    for (int c = 0; c < nc; ++c) {
+      lo[c] = std::min(lo[c], px[c]);
+      hi[c] = std::max(hi[c], px[c]);
+    }
+  }
+  for (int c = 0; c < nc; ++c) {
+    if (!(double(hi[c]) - double(lo[c]) < low)) return true;
+  }
+  return false;
+}
+
 Status ValidateOptions(const FeatureOptions& o) {
   auto bad = [](const char* name, double v) {
     return Status(StatusCode::kInvalidArgument,
@@ -612,7 +637,7 @@ StatusOr<std::vector<FeatureCurve>> DetectFeatures(const Raster& image, const Ra
     int r = int(std::ceil(2 * options.smoothing_sigma)) + 2;
     cv::erode(domain, edge_domain, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1)));
   }
-  if (!options.detect_edges) return curves;
+  if (!options.detect_edges || !CanHaveEdges(image, options)) return curves;
 
   GradientField g = ComputeGradient(image, options.smoothing_sigma);
   if (object_mode) {
