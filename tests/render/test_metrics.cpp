@@ -155,8 +155,10 @@ TEST_CASE("CompareImages reports bad input with specific codes", "[metrics][erro
 TEST_CASE("MSSIM is the same for any thread count", "[metrics]") {
   // Tall enough for several row bands per thread count (bands of at least 16 rows), with
   // an alpha hole so that masked pixels fall inside bands and on their edges; also an image
-  // smaller than the window (no crop).
-  for (const auto& [w, h] : {std::pair{37, 203}, std::pair{9, 7}}) {
+  // smaller than the window (no crop), and one taller than a slab of bands for every thread
+  // count (ChannelSsim's slabs of 128 rows a thread), whose rows mix the masked rule (rows
+  // through the hole) and the unmasked one.
+  for (const auto& [w, h] : {std::pair{37, 203}, std::pair{9, 7}, std::pair{23, 1400}}) {
     Raster clean, noisy;
     SyntheticPair(w, h, 3, clean, noisy);
     Raster masked(w, h, 4);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "scan_convert.h"
@@ -26,36 +27,59 @@ std::array<double, 2 * kRadius + 1> GaussianWindow() {
   return g;
 }
 
-// Colour channel c (0..2) of pixel p; grey rasters count as R = G = B.
-inline double ColourAt(const Raster& r, size_t p, int c) {
-  return r.data[p * r.channels + (r.channels >= 3 ? c : 0)];
+// One colour channel of a raster read in place: value p = data[p * stride] (as float).
+struct ChannelView {
+  const float* data;
+  size_t stride;
+  double operator[](size_t p) const { return data[p * stride]; }
+};
+
+// The view of colour channel c (0..2) of r; grey rasters count as R = G = B.
+ChannelView ViewOf(const Raster& r, int c) {
+  return {r.data.data() + (r.channels >= 3 ? c : 0), size_t(r.channels)};
 }
+
+// Rows of output a thread takes per slab of ChannelSsim (each also filters kRadius rows on
+// either side of its rows horizontally).
+constexpr int kSsimBandRows = 128;
 
 // Mean SSIM of one channel over the compared pixels (mask), at pixels >= kRadius from the
 // border when the image allows it. Rows are filtered horizontally into a ring of
-// 2*kRadius+1 rows of the six moments, then combined vertically. Bands of output rows go to
-// threads (each filters the rows its band needs) and store each pixel's SSIM; the sum is
-// then taken serially in row-major order, so it is the same for any thread count.
+// 2*kRadius+1 rows of the six moments, then combined vertically. The image is taken in
+// slabs of rows: each thread filters a band of kSsimBandRows output rows of the slab (and
+// the rows its window needs) and stores each pixel's SSIM; the slab's sum is then taken
+// serially in row-major order, slab after slab, so the sum is that of one serial pass over
+// the whole image in row-major order for any thread count, and only a slab's SSIM values
+// are held. A pixel whose window lies inside the image and the mask (every pixel of its row
+// compared) is filtered without the per-tap tests: the same sums in the same order.
 struct SsimSum {
   double sum = 0;
   uint64_t count = 0;
 };
-SsimSum ChannelSsim(const std::vector<float>& x, const std::vector<float>& y,
-                    const std::vector<uint8_t>& mask, int w, int h, int threads) {
+SsimSum ChannelSsim(ChannelView x, ChannelView y, const std::vector<uint8_t>& mask,
+                    const std::vector<uint8_t>& full_row, int w, int h, int threads) {
   const auto g = GaussianWindow();
   constexpr int kWin = 2 * kRadius + 1;
   constexpr int kMoments = 6;  // m, m x, m y, m x^2, m y^2, m x y
   const bool crop = w >= kWin && h >= kWin;
   const int x0 = crop ? kRadius : 0, x1 = crop ? w - kRadius : w;
   auto counted_row = [&](int yo) { return !crop || (yo >= kRadius && yo < h - kRadius); };
-  std::vector<double> terms(size_t(w) * h);
-  render_internal::ForEachRowBand(h, threads, [&](int, int r0, int r1) {
+  double full_weight = 0;  // s[0] of a window with every tap counted, summed as below
+  for (int k = -kRadius; k <= kRadius; ++k) full_weight += g[k + kRadius];
+  const int workers = render_internal::WorkerCount(threads, h);
+  const int slab_rows = workers * kSsimBandRows;
+  std::vector<double> terms(size_t(std::min(h, slab_rows)) * w);
+  // Output rows [r0, r1) of the slab starting at row slab0 into terms.
+  auto band = [&](int slab0, int r0, int r1) {
     std::vector<double> ring(size_t(kWin) * kMoments * w, 0.0);
     std::vector<double> acc(size_t(kMoments) * w);
+    std::vector<double> row_x(static_cast<size_t>(w)), row_y(static_cast<size_t>(w));  // the row's values, contiguous
     for (int yi = std::max(0, r0 - kRadius); yi < r1 + kRadius; ++yi) {
       if (yi < h) {
         double* row = &ring[size_t(yi % kWin) * kMoments * w];
-        for (int xo = 0; xo < w; ++xo) {
+        const bool fast = full_row[size_t(yi)] != 0 && w >= kWin;
+        // The general rule at pixel xo: the taps inside the image and the mask, in order.
+        auto general = [&](int xo) {
           double s[kMoments] = {0, 0, 0, 0, 0, 0};
           for (int k = -kRadius; k <= kRadius; ++k) {
             const int xs = xo + k;
@@ -71,6 +95,42 @@ SsimSum ChannelSsim(const std::vector<float>& x, const std::vector<float>& y,
             s[5] += gw * a * b;
           }
           for (int m = 0; m < kMoments; ++m) row[size_t(m) * w + xo] = s[m];
+        };
+        if (!fast) {
+          for (int xo = 0; xo < w; ++xo) general(xo);
+        } else {
+          // Every tap counted: each moment summed tap by tap over the row (the same sums in
+          // the same order as the general rule, the loop over pixels innermost).
+          for (int xo = 0; xo < kRadius; ++xo) general(xo);
+          for (int xo = w - kRadius; xo < w; ++xo) general(xo);
+          const size_t base = size_t(yi) * w;
+          for (int xs = 0; xs < w; ++xs) {
+            row_x[size_t(xs)] = x[base + size_t(xs)];
+            row_y[size_t(xs)] = y[base + size_t(xs)];
+          }
+          double* m0 = row;
+          double* m1 = row + size_t(1) * w;
+          double* m2 = row + size_t(2) * w;
+          double* m3 = row + size_t(3) * w;
+          double* m4 = row + size_t(4) * w;
+          double* m5 = row + size_t(5) * w;
+          for (int xo = kRadius; xo < w - kRadius; ++xo) {
+            m0[xo] = full_weight;
+            m1[xo] = m2[xo] = m3[xo] = m4[xo] = m5[xo] = 0.0;
+          }
+          for (int k = 0; k < kWin; ++k) {
+            const double gw = g[k];
+            const double* ax = row_x.data() + k;  // ax[xo - kRadius]: tap k of pixel xo
+            const double* bx = row_y.data() + k;
+            for (int xo = kRadius; xo < w - kRadius; ++xo) {
+              const double a = ax[xo - kRadius], b = bx[xo - kRadius];
+              m1[xo] += gw * a;
+              m2[xo] += gw * b;
+              m3[xo] += gw * a * a;
+              m4[xo] += gw * b * b;
+              m5[xo] += gw * a * b;
+            }
+          }
         }
       }
       const int yo = yi - kRadius;
@@ -83,6 +143,7 @@ SsimSum ChannelSsim(const std::vector<float>& x, const std::vector<float>& y,
         const double* row = &ring[size_t(ys % kWin) * kMoments * w];
         for (size_t q = 0; q < acc.size(); ++q) acc[q] += gw * row[q];
       }
+      double* out = &terms[size_t(yo - slab0) * w];
       for (int xo = x0; xo < x1; ++xo) {
         if (!mask[size_t(yo) * w + xo]) continue;
         const double wsum = acc[xo];
@@ -90,18 +151,31 @@ SsimSum ChannelSsim(const std::vector<float>& x, const std::vector<float>& y,
         const double vx = acc[size_t(3) * w + xo] / wsum - mx * mx;
         const double vy = acc[size_t(4) * w + xo] / wsum - my * my;
         const double cxy = acc[size_t(5) * w + xo] / wsum - mx * my;
-        terms[size_t(yo) * w + xo] =
-            ((2 * mx * my + kC1) * (2 * cxy + kC2)) / ((mx * mx + my * my + kC1) * (vx + vy + kC2));
+        out[xo] = ((2 * mx * my + kC1) * (2 * cxy + kC2)) / ((mx * mx + my * my + kC1) * (vx + vy + kC2));
       }
     }
-  });
+  };
   SsimSum out;
-  for (int yo = 0; yo < h; ++yo) {
-    if (!counted_row(yo)) continue;
-    for (int xo = x0; xo < x1; ++xo) {
-      if (!mask[size_t(yo) * w + xo]) continue;
-      out.sum += terms[size_t(yo) * w + xo];
-      ++out.count;
+  for (int slab0 = 0; slab0 < h; slab0 += slab_rows) {
+    const int slab1 = std::min(h, slab0 + slab_rows);
+    const int bands = (slab1 - slab0 + kSsimBandRows - 1) / kSsimBandRows;
+    auto run = [&](int b) { band(slab0, slab0 + b * kSsimBandRows, std::min(slab1, slab0 + (b + 1) * kSsimBandRows)); };
+    if (bands == 1) {
+      run(0);
+    } else {
+      std::vector<std::thread> pool;
+      for (int b = 1; b < bands; ++b) pool.emplace_back(run, b);
+      run(0);
+      for (std::thread& t : pool) t.join();
+    }
+    for (int yo = slab0; yo < slab1; ++yo) {
+      if (!counted_row(yo)) continue;
+      const double* row = &terms[size_t(yo - slab0) * w];
+      for (int xo = x0; xo < x1; ++xo) {
+        if (!mask[size_t(yo) * w + xo]) continue;
+        out.sum += row[xo];
+        ++out.count;
+      }
     }
   }
   return out;
@@ -141,22 +215,27 @@ StatusOr<ImageMetrics> CompareImages(const Raster& reconstruction, const Raster&
   }
   if (count == 0) return Status(StatusCode::kEmptyInput, "compare: no pixel lies in both images' domains (alpha > 0.5)");
 
+  // Rows whose every pixel is compared: ChannelSsim filters them without per-tap tests.
+  std::vector<uint8_t> full_row(size_t(h), 1);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w && full_row[size_t(y)]; ++x) full_row[size_t(y)] = mask[size_t(y) * w + x];
+  }
+
   const bool grey = a.channels < 3 && b.channels < 3;
   const int nchan = grey ? 1 : 3;
   double sq = 0, abs_sum = 0, ssim_sum = 0;
   uint64_t ssim_count = 0;
-  // One channel of each image, as the rasters' floats (exact; every sum is in double).
-  std::vector<float> xa(npix), xb(npix);
+  // One channel of each image, read in place as the rasters' floats (exact; every sum is in
+  // double).
   for (int c = 0; c < nchan; ++c) {
+    const ChannelView xa = ViewOf(a, c), xb = ViewOf(b, c);
     for (size_t p = 0; p < npix; ++p) {
-      xa[p] = float(ColourAt(a, p, c));
-      xb[p] = float(ColourAt(b, p, c));
       if (!mask[p]) continue;
-      const double d = double(xa[p]) - double(xb[p]);
+      const double d = xa[p] - xb[p];
       sq += d * d;
       abs_sum += std::abs(d);
     }
-    const SsimSum s = ChannelSsim(xa, xb, mask, w, h, threads);
+    const SsimSum s = ChannelSsim(xa, xb, mask, full_row, w, h, threads);
     ssim_sum += s.count ? s.sum / double(s.count) : 0.0;
     ssim_count += s.count;
   }
