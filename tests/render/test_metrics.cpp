@@ -157,8 +157,8 @@ TEST_CASE("MSSIM is the same for any thread count", "[metrics]") {
   // an alpha hole so that masked pixels fall inside bands and on their edges; also an image
   // smaller than the window (no crop), and one taller than a slab of bands for every thread
   // count (ChannelSsim's slabs of 128 rows a thread), whose rows mix the masked rule (rows
-  // through the hole) and the unmasked one.
-  for (const auto& [w, h] : {std::pair{37, 203}, std::pair{9, 7}, std::pair{23, 1400}}) {
+  // through the hole) and the unmasked one, and one wider than a strip of columns (512).
+  for (const auto& [w, h] : {std::pair{37, 203}, std::pair{9, 7}, std::pair{23, 1400}, std::pair{1100, 29}}) {
     Raster clean, noisy;
     SyntheticPair(w, h, 3, clean, noisy);
     Raster masked(w, h, 4);

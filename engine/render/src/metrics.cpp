@@ -42,10 +42,13 @@ ChannelView ViewOf(const Raster& r, int c) {
 // Rows of output a thread takes per slab of ChannelSsim (each also filters kRadius rows on
 // either side of its rows horizontally).
 constexpr int kSsimBandRows = 128;
+// Columns of a strip: a band is filtered strip by strip (see ChannelSsim).
+constexpr int kSsimStripColumns = 512;
 
 // Mean SSIM of one channel over the compared pixels (mask), at pixels >= kRadius from the
 // border when the image allows it. Rows are filtered horizontally into a ring of
-// 2*kRadius+1 rows of the six moments, then combined vertically. The image is taken in
+// 2*kRadius+1 rows of the six moments, then combined vertically, in strips of columns (the
+// ring of a strip stays in cache; a whole 8000-px row's ring did not). The image is taken in
 // slabs of rows: each thread filters a band of kSsimBandRows output rows of the slab (and
 // the rows its window needs) and stores each pixel's SSIM; the slab's sum is then taken
 // serially in row-major order, slab after slab, so the sum is that of one serial pass over
@@ -69,89 +72,98 @@ SsimSum ChannelSsim(ChannelView x, ChannelView y, const std::vector<uint8_t>& ma
   const int workers = render_internal::WorkerCount(threads, h);
   const int slab_rows = workers * kSsimBandRows;
   std::vector<double> terms(size_t(std::min(h, slab_rows)) * w);
-  // Output rows [r0, r1) of the slab starting at row slab0 into terms.
+  // Output rows [r0, r1) of the slab starting at row slab0 into terms, in strips of
+  // kSsimStripColumns columns (a strip's ring of moments stays in cache from row to row).
   auto band = [&](int slab0, int r0, int r1) {
-    std::vector<double> ring(size_t(kWin) * kMoments * w, 0.0);
-    std::vector<double> acc(size_t(kMoments) * w);
-    std::vector<double> row_x(static_cast<size_t>(w)), row_y(static_cast<size_t>(w));  // the row's values, contiguous
-    for (int yi = std::max(0, r0 - kRadius); yi < r1 + kRadius; ++yi) {
-      if (yi < h) {
-        double* row = &ring[size_t(yi % kWin) * kMoments * w];
-        const bool fast = full_row[size_t(yi)] != 0 && w >= kWin;
-        // The general rule at pixel xo: the taps inside the image and the mask, in order.
-        auto general = [&](int xo) {
-          double s[kMoments] = {0, 0, 0, 0, 0, 0};
-          for (int k = -kRadius; k <= kRadius; ++k) {
-            const int xs = xo + k;
-            if (xs < 0 || xs >= w) continue;
-            const size_t p = size_t(yi) * w + xs;
-            if (!mask[p]) continue;
-            const double gw = g[k + kRadius], a = x[p], b = y[p];
-            s[0] += gw;
-            s[1] += gw * a;
-            s[2] += gw * b;
-            s[3] += gw * a * a;
-            s[4] += gw * b * b;
-            s[5] += gw * a * b;
-          }
-          for (int m = 0; m < kMoments; ++m) row[size_t(m) * w + xo] = s[m];
-        };
-        if (!fast) {
-          for (int xo = 0; xo < w; ++xo) general(xo);
-        } else {
-          // Every tap counted: each moment summed tap by tap over the row (the same sums in
-          // the same order as the general rule, the loop over pixels innermost).
-          for (int xo = 0; xo < kRadius; ++xo) general(xo);
-          for (int xo = w - kRadius; xo < w; ++xo) general(xo);
-          const size_t base = size_t(yi) * w;
-          for (int xs = 0; xs < w; ++xs) {
-            row_x[size_t(xs)] = x[base + size_t(xs)];
-            row_y[size_t(xs)] = y[base + size_t(xs)];
-          }
-          double* m0 = row;
-          double* m1 = row + size_t(1) * w;
-          double* m2 = row + size_t(2) * w;
-          double* m3 = row + size_t(3) * w;
-          double* m4 = row + size_t(4) * w;
-          double* m5 = row + size_t(5) * w;
-          for (int xo = kRadius; xo < w - kRadius; ++xo) {
-            m0[xo] = full_weight;
-            m1[xo] = m2[xo] = m3[xo] = m4[xo] = m5[xo] = 0.0;
-          }
-          for (int k = 0; k < kWin; ++k) {
-            const double gw = g[k];
-            const double* ax = row_x.data() + k;  // ax[xo - kRadius]: tap k of pixel xo
-            const double* bx = row_y.data() + k;
-            for (int xo = kRadius; xo < w - kRadius; ++xo) {
-              const double a = ax[xo - kRadius], b = bx[xo - kRadius];
-              m1[xo] += gw * a;
-              m2[xo] += gw * b;
-              m3[xo] += gw * a * a;
-              m4[xo] += gw * b * b;
-              m5[xo] += gw * a * b;
+    const int strip = std::min(w, kSsimStripColumns);
+    std::vector<double> ring(size_t(kWin) * kMoments * strip, 0.0);
+    std::vector<double> acc(size_t(kMoments) * strip);
+    std::vector<double> row_x(size_t(strip) + 2 * kRadius), row_y(size_t(strip) + 2 * kRadius);
+    for (int c0 = 0; c0 < w; c0 += strip) {
+      const int c1 = std::min(w, c0 + strip), sw = c1 - c0;
+      for (int yi = std::max(0, r0 - kRadius); yi < r1 + kRadius; ++yi) {
+        if (yi < h) {
+          double* row = &ring[size_t(yi % kWin) * kMoments * sw];
+          // The general rule at pixel xo: the taps inside the image and the mask, in order.
+          auto general = [&](int xo) {
+            double s[kMoments] = {0, 0, 0, 0, 0, 0};
+            for (int k = -kRadius; k <= kRadius; ++k) {
+              const int xs = xo + k;
+              if (xs < 0 || xs >= w) continue;
+              const size_t p = size_t(yi) * w + xs;
+              if (!mask[p]) continue;
+              const double gw = g[k + kRadius], a = x[p], b = y[p];
+              s[0] += gw;
+              s[1] += gw * a;
+              s[2] += gw * b;
+              s[3] += gw * a * a;
+              s[4] += gw * b * b;
+              s[5] += gw * a * b;
+            }
+            for (int m = 0; m < kMoments; ++m) row[size_t(m) * sw + (xo - c0)] = s[m];
+          };
+          // Pixels [f0, f1) have every tap inside the image and the mask (their row is).
+          const bool full = full_row[size_t(yi)] != 0;
+          const int f0 = full ? std::max(c0, kRadius) : c1, f1 = full ? std::min(c1, w - kRadius) : c1;
+          if (f0 >= f1) {
+            for (int xo = c0; xo < c1; ++xo) general(xo);
+          } else {
+            // Each moment summed tap by tap over the run of pixels (the same sums in the same
+            // order as the general rule, the loop over pixels innermost).
+            for (int xo = c0; xo < f0; ++xo) general(xo);
+            for (int xo = f1; xo < c1; ++xo) general(xo);
+            const size_t base = size_t(yi) * w;
+            for (int xs = f0 - kRadius; xs < f1 + kRadius; ++xs) {
+              row_x[size_t(xs - (f0 - kRadius))] = x[base + size_t(xs)];
+              row_y[size_t(xs - (f0 - kRadius))] = y[base + size_t(xs)];
+            }
+            const int n = f1 - f0;
+            double* m0 = row + (f0 - c0);
+            double* m1 = m0 + sw;
+            double* m2 = m0 + size_t(2) * sw;
+            double* m3 = m0 + size_t(3) * sw;
+            double* m4 = m0 + size_t(4) * sw;
+            double* m5 = m0 + size_t(5) * sw;
+            for (int i = 0; i < n; ++i) {
+              m0[i] = full_weight;
+              m1[i] = m2[i] = m3[i] = m4[i] = m5[i] = 0.0;
+            }
+            for (int k = 0; k < kWin; ++k) {
+              const double gw = g[k];
+              const double* ax = row_x.data() + k;  // ax[i]: tap k of pixel f0 + i
+              const double* bx = row_y.data() + k;
+              for (int i = 0; i < n; ++i) {
+                const double a = ax[i], b = bx[i];
+                m1[i] += gw * a;
+                m2[i] += gw * b;
+                m3[i] += gw * a * a;
+                m4[i] += gw * b * b;
+                m5[i] += gw * a * b;
+              }
             }
           }
         }
-      }
-      const int yo = yi - kRadius;
-      if (yo < r0 || !counted_row(yo)) continue;
-      std::fill(acc.begin(), acc.end(), 0.0);
-      for (int k = -kRadius; k <= kRadius; ++k) {
-        const int ys = yo + k;
-        if (ys < 0 || ys >= h) continue;
-        const double gw = g[k + kRadius];
-        const double* row = &ring[size_t(ys % kWin) * kMoments * w];
-        for (size_t q = 0; q < acc.size(); ++q) acc[q] += gw * row[q];
-      }
-      double* out = &terms[size_t(yo - slab0) * w];
-      for (int xo = x0; xo < x1; ++xo) {
-        if (!mask[size_t(yo) * w + xo]) continue;
-        const double wsum = acc[xo];
-        const double mx = acc[size_t(1) * w + xo] / wsum, my = acc[size_t(2) * w + xo] / wsum;
-        const double vx = acc[size_t(3) * w + xo] / wsum - mx * mx;
-        const double vy = acc[size_t(4) * w + xo] / wsum - my * my;
-        const double cxy = acc[size_t(5) * w + xo] / wsum - mx * my;
-        out[xo] = ((2 * mx * my + kC1) * (2 * cxy + kC2)) / ((mx * mx + my * my + kC1) * (vx + vy + kC2));
+        const int yo = yi - kRadius;
+        if (yo < r0 || !counted_row(yo)) continue;
+        std::fill(acc.begin(), acc.begin() + size_t(kMoments) * sw, 0.0);
+        for (int k = -kRadius; k <= kRadius; ++k) {
+          const int ys = yo + k;
+          if (ys < 0 || ys >= h) continue;
+          const double gw = g[k + kRadius];
+          const double* row = &ring[size_t(ys % kWin) * kMoments * sw];
+          for (size_t q = 0; q < size_t(kMoments) * sw; ++q) acc[q] += gw * row[q];
+        }
+        double* out = &terms[size_t(yo - slab0) * w];
+        for (int xo = std::max(x0, c0); xo < std::min(x1, c1); ++xo) {
+          if (!mask[size_t(yo) * w + xo]) continue;
+          const size_t i = size_t(xo - c0);
+          const double wsum = acc[i];
+          const double mx = acc[size_t(1) * sw + i] / wsum, my = acc[size_t(2) * sw + i] / wsum;
+          const double vx = acc[size_t(3) * sw + i] / wsum - mx * mx;
+          const double vy = acc[size_t(4) * sw + i] / wsum - my * my;
+          const double cxy = acc[size_t(5) * sw + i] / wsum - mx * my;
+          out[xo] = ((2 * mx * my + kC1) * (2 * cxy + kC2)) / ((mx * mx + my * my + kC1) * (vx + vy + kC2));
+        }
       }
     }
   };
