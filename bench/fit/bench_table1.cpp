@@ -69,6 +69,8 @@ bool ApplyOverrides(const Config& c, sdvi::VectorizeOptions& o) {
     else if (name == "min_spacing") o.min_spacing = v;
     else if (name == "initial_fraction") o.initial_fraction = v;
     else if (name == "growth") o.growth = v;
+    else if (name == "min_round_growth") o.min_round_growth = v;
+    else if (name == "min_round_gain") o.min_round_gain = v;
     else if (name == "content_block") o.content_block = int(v);
     else if (name == "spacing_exponent") o.spacing_exponent = v;
     else if (name == "feature_clearance") o.feature_clearance = v;

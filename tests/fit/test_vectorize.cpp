@@ -80,6 +80,33 @@ TEST_CASE("vectorize respects max-triangles and stops at a target PSNR", "[vecto
   CHECK(b->report.history.size() == 1);
 }
 
+TEST_CASE("the tail stop ends the rounds with an earlier round's result", "[vectorize]") {
+  const sdvi::Raster sample = sdvi::MakeSampleImage(128, 96);
+  sdvi::VectorizeOptions all;
+  all.compression_ratio = 16;
+  all.min_round_growth = 0;  // every round runs
+  auto full = sdvi::Vectorize(sample, nullptr, all);
+  REQUIRE(full.ok());
+  REQUIRE(full->report.iterations >= 2);
+  // A stop that holds from the second round on (any round adds under 99% of the vertices,
+  // and every gain is under 1e9 dB): one round runs, and its result is that of one round.
+  sdvi::VectorizeOptions tail = all;
+  tail.min_round_growth = 0.99;
+  tail.min_round_gain = 1e9;
+  auto stopped = sdvi::Vectorize(sample, nullptr, tail);
+  REQUIRE(stopped.ok());
+  CHECK(stopped->report.iterations == 1);
+  sdvi::VectorizeOptions one = all;
+  one.iterations = 1;
+  auto first = sdvi::Vectorize(sample, nullptr, one);
+  REQUIRE(first.ok());
+  CHECK(stopped->image == first->image);
+  CHECK(stopped->report.psnr == first->report.psnr);
+  sdvi::VectorizeOptions bad = all;
+  bad.min_round_growth = 1;
+  CHECK(sdvi::Vectorize(sample, nullptr, bad).status().code() == sdvi::StatusCode::kInvalidArgument);
+}
+
 TEST_CASE("vectorize is deterministic", "[vectorize]") {
   const sdvi::Raster sample = sdvi::MakeSampleImage(112, 80);
   sdvi::VectorizeOptions options;

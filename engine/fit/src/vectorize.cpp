@@ -67,7 +67,8 @@ Status CheckOptions(const VectorizeOptions& o) {
   if (o.iterations < 0) return bad("iterations must be >= 0");
   if (!(o.error_threshold >= 0) || !(o.error_blur_sigma >= 0) || !(o.spacing_factor > 0) ||
       !(o.min_spacing > 0) || !(o.initial_fraction >= 0 && o.initial_fraction <= 1) ||
-      !(o.growth > 0) || o.content_block < 0 ||
+      !(o.growth > 0) || !(o.min_round_growth >= 0 && o.min_round_growth < 1) ||
+      !(o.min_round_gain >= 0) || o.content_block < 0 ||
       !(o.max_feature_fraction >= 0 && o.max_feature_fraction <= 1) ||
       !(o.given_features_extra >= 0 && std::isfinite(o.given_features_extra))) {
     return bad("refinement constants out of range");
@@ -288,6 +289,7 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
   spacing.max = 4 * spacing.base;
   spacing.exponent = options.spacing_exponent;
   const double threshold = 3.0 * options.error_threshold * options.error_threshold;
+  double last_gain = std::numeric_limits<double>::infinity();  // the last round's PSNR gain, dB
   for (int round = 1; round <= options.iterations; ++round) {
     if (options.target_psnr > 0 && psnr >= options.target_psnr) break;
     double room = vertex_budget - double(mesh.vertices.size());
@@ -318,6 +320,10 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
     std::vector<uint8_t>().swap(blocked);
     seconds.refine += SecondsSince(start);
     if (added.empty()) break;
+    if (double(added.size()) < options.min_round_growth * double(mesh.vertices.size()) &&
+        last_gain < options.min_round_gain) {
+      break;  // the tail stop
+    }
 
     start = Clock::now();
     Image candidate;
@@ -365,7 +371,9 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
     mesh = std::move(candidate);
     fit = std::move(refit);
     samples = std::move(next);
+    const double previous_psnr = psnr;
     psnr = PsnrOf(fit.sum_squared_error, fit.domain_pixels);
+    last_gain = psnr - previous_psnr;
     report.iterations = round;
     report.history.push_back({uint32_t(mesh.vertices.size()), uint32_t(mesh.triangles.size()),
                               uint32_t(added.size()), psnr, seconds - round_start});
