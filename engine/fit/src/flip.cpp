@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <unordered_map>
 #include <vector>
 
 #include "parallel.h"
@@ -307,30 +308,17 @@ int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int p
     double after0, after1;
   };
   constexpr size_t kChunk = 256;
+  // The interior edges and their two triangles (lower index first), kept up to date by the
+  // flips: the first sweep finds them by sorting every triangle's sides, a later one lists
+  // only the edges of the triangles the previous sweep changed, in the same (edge) order.
+  auto edge_key = [](const Edge& e) { return (uint64_t(e.a) << 32) | e.b; };
+  std::unordered_map<uint64_t, std::array<uint32_t, 2>> edge_triangles;
   for (int pass = 0; pass < passes; ++pass) {
-    // (edge, triangle) pairs sorted by edge: interior edges appear twice.
-    struct Side {
-      Edge e;
-      uint32_t t;
-    };
-    std::vector<Side> sides;
-    sides.reserve(mesh.triangles.size() * 3);
-    for (uint32_t t = 0; t < mesh.triangles.size(); ++t) {
-      const auto& v = mesh.triangles[t].v;
-      for (int k = 0; k < 3; ++k) sides.push_back({Edge::Of(v[k], v[(k + 1) % 3]), t});
-    }
-    std::sort(sides.begin(), sides.end(), [](const Side& a, const Side& b) {
-      return a.e != b.e ? a.e < b.e : a.t < b.t;
-    });
     // The edges a sweep may flip, by the geometry at the sweep's start.
     std::vector<Candidate> candidates;
-    for (size_t i = 0; i + 1 < sides.size(); ++i) {
-      if (sides[i].e != sides[i + 1].e) continue;
-      const Edge e = sides[i].e;
-      const uint32_t t0 = sides[i].t, t1 = sides[i + 1].t;
-      ++i;
-      if (!(changed[t0] || changed[t1])) continue;
-      if (std::binary_search(creases.begin(), creases.end(), e)) continue;
+    auto consider = [&](const Edge& e, uint32_t t0, uint32_t t1) {
+      if (!(changed[t0] || changed[t1])) return;
+      if (std::binary_search(creases.begin(), creases.end(), e)) return;
       auto opposite = [&](uint32_t t) {
         for (uint32_t w : mesh.triangles[t].v) {
           if (w != e.a && w != e.b) return w;
@@ -338,7 +326,7 @@ int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int p
         return e.a;
       };
       const uint32_t r = opposite(t0), s = opposite(t1);
-      if (r == s) continue;
+      if (r == s) return;
       const Vertex& P = mesh.vertices[e.a];
       const Vertex& Q = mesh.vertices[e.b];
       const Vertex& R = mesh.vertices[r];
@@ -346,10 +334,51 @@ int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int p
       // Convex quadrilateral: r-s must cross p-q strictly.
       const double op = Orient(R, S, P), oq = Orient(R, S, Q);
       const double orr = Orient(P, Q, R), os = Orient(P, Q, S);
-      if (!((op > 0 && oq < 0) || (op < 0 && oq > 0))) continue;
-      if (!((orr > 0 && os < 0) || (orr < 0 && os > 0))) continue;
-      if (MinAngleSine(R, S, P) < min_sine || MinAngleSine(R, S, Q) < min_sine) continue;
+      if (!((op > 0 && oq < 0) || (op < 0 && oq > 0))) return;
+      if (!((orr > 0 && os < 0) || (orr < 0 && os > 0))) return;
+      if (MinAngleSine(R, S, P) < min_sine || MinAngleSine(R, S, Q) < min_sine) return;
       candidates.push_back({e, t0, t1, r, s, 0.0, 0.0});
+    };
+    if (pass == 0) {
+      // (edge, triangle) pairs sorted by edge: interior edges appear twice.
+      struct Side {
+        Edge e;
+        uint32_t t;
+      };
+      std::vector<Side> sides;
+      sides.reserve(mesh.triangles.size() * 3);
+      for (uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+        const auto& v = mesh.triangles[t].v;
+        for (int k = 0; k < 3; ++k) sides.push_back({Edge::Of(v[k], v[(k + 1) % 3]), t});
+      }
+      std::sort(sides.begin(), sides.end(), [](const Side& a, const Side& b) {
+        return a.e != b.e ? a.e < b.e : a.t < b.t;
+      });
+      edge_triangles.reserve(sides.size() / 2 + 16);
+      for (size_t i = 0; i + 1 < sides.size(); ++i) {
+        if (sides[i].e != sides[i + 1].e) continue;
+        const Edge e = sides[i].e;
+        const uint32_t t0 = sides[i].t, t1 = sides[i + 1].t;
+        ++i;
+        edge_triangles[edge_key(e)] = {t0, t1};
+        consider(e, t0, t1);
+      }
+    } else {
+      std::vector<Edge> edges;
+      for (uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+        if (!changed[t]) continue;
+        const auto& v = mesh.triangles[t].v;
+        for (int k = 0; k < 3; ++k) {
+          const Edge e = Edge::Of(v[k], v[(k + 1) % 3]);
+          if (edge_triangles.count(edge_key(e))) edges.push_back(e);
+        }
+      }
+      std::sort(edges.begin(), edges.end());
+      edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+      for (const Edge& e : edges) {
+        const std::array<uint32_t, 2>& t = edge_triangles.at(edge_key(e));
+        consider(e, t[0], t[1]);
+      }
     }
     // Errors of the candidates' triangles not known yet, then of the flipped pairs.
     std::vector<uint32_t> unknown;
@@ -395,6 +424,20 @@ int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int p
       triangle_error[t0] = c.after0;
       triangle_error[t1] = c.after1;
       touched[t0] = touched[t1] = 1;
+      // The edge map: (a, b) becomes (r, s); side (a, s) moves from t1 to t0, (b, r) from t0
+      // to t1 (the others keep their triangles).
+      edge_triangles.erase(edge_key(c.e));
+      edge_triangles[edge_key(Edge::Of(c.r, c.s))] = {std::min(t0, t1), std::max(t0, t1)};
+      auto move_side = [&](const Edge& e, uint32_t from, uint32_t to) {
+        const auto it = edge_triangles.find(edge_key(e));
+        if (it == edge_triangles.end()) return;  // a boundary edge
+        std::array<uint32_t, 2>& t = it->second;
+        if (t[0] == from) t[0] = to;
+        else if (t[1] == from) t[1] = to;
+        if (t[0] > t[1]) std::swap(t[0], t[1]);
+      };
+      move_side(Edge::Of(c.e.a, c.s), t1, t0);
+      move_side(Edge::Of(c.e.b, c.r), t0, t1);
       ++pass_flips;
     }
     changed.swap(touched);
