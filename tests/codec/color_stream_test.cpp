@@ -212,6 +212,35 @@ std::vector<uint8_t> WriterPayloadWithoutTags(bool grey = false) {
   return MustEncode(image, options);
 }
 
+// The rules shared by the colour streams (header byte 10 bit 1, spec/FORMAT.md 8.8 and 8.9),
+// on `good`, a payload with its colour in the tag stream, and `in_draco`, the same image with
+// the colour in the Draco mesh (bit 1 clear): the bit set on `in_draco` (its Draco mesh has a
+// COLOR attribute) or cleared on `good` (its Draco mesh has none), or the tag stream cut short,
+// are corrupt; damaged bytes behind a valid checksum are errors or images, never a crash, and
+// many are errors.
+void CheckColorFlagCutAndDamage(const std::vector<uint8_t>& good, std::vector<uint8_t> in_draco,
+                                const char* name) {
+  Image out;
+  REQUIRE(in_draco[10] == 1);
+  in_draco[5] = good[5];
+  in_draco[10] = 3;
+  sdvi::testing::FixPayloadChecksum(&in_draco);
+  CHECK(sdvi::DecodeDracoPayload(in_draco, name, &out).code() == StatusCode::kCorrupt);
+  std::vector<uint8_t> bad = good;
+  bad[10] = 1;
+  sdvi::testing::FixPayloadChecksum(&bad);
+  CHECK(sdvi::DecodeDracoPayload(bad, name, &out).code() == StatusCode::kCorrupt);
+  bad = good;
+  const uint32_t tags = GetU32(bad, 32);
+  bad.resize(bad.size() - tags / 2);
+  PutU32(&bad, 32, tags - tags / 2);
+  sdvi::testing::FixPayloadChecksum(&bad);
+  CHECK(sdvi::DecodeDracoPayload(bad, name, &out).code() == StatusCode::kCorrupt);
+  int tried = 0;
+  const int errors = sdvi::testing::DamagedPayloadErrors(good, 5, 3, &tried);
+  CHECK(errors > tried / 4);
+}
+
 }  // namespace
 
 TEST_CASE("colours in the tag stream: smaller, and exactly the colours of neighbour-mean colours in Draco",
@@ -359,35 +388,14 @@ TEST_CASE("colours in the tag stream: header rules and damaged bytes", "[codec][
   const std::vector<uint8_t> good = MustEncode(image, options);
   REQUIRE(good[5] == 5);
   REQUIRE(good[10] == 3);
-  Image out;
   // The flag in a 1.4 payload, without the positions' flag, without neighbour-mean colours, with
   // an unknown bit: corrupt.
   sdvi::testing::CheckRefused(good, {{5, 4}, {10, 2}, {6, static_cast<uint8_t>(good[6] & ~128)}, {10, 7}},
                               "colors.sdvi");
-  // The flag set on a payload 1.4 whose Draco mesh has the colours: corrupt (attributes besides
-  // POSITION).
-  {
-    options.stream_colors = false;
-    std::vector<uint8_t> bad = MustEncode(image, options);
-    options.stream_colors = true;
-    REQUIRE(bad[10] == 1);
-    bad[5] = 5;
-    bad[10] = 3;
-    sdvi::testing::FixPayloadChecksum(&bad);
-    CHECK(sdvi::DecodeDracoPayload(bad, "colors.sdvi", &out).code() == StatusCode::kCorrupt);
-  }
-  // The flag cleared: the Draco mesh has no COLOR attribute.
-  {
-    std::vector<uint8_t> bad = good;
-    bad[10] = 1;
-    sdvi::testing::FixPayloadChecksum(&bad);
-    CHECK(sdvi::DecodeDracoPayload(bad, "cleared.sdvi", &out).code() == StatusCode::kCorrupt);
-  }
-  // Damaged bytes behind a valid checksum, in the Draco mesh and in the tag stream: errors or
-  // images, never a crash; many are errors.
-  int tried = 0;
-  const int errors = sdvi::testing::DamagedPayloadErrors(good, 5, 3, &tried);
-  CHECK(errors > tried / 4);
+  // The flag set on a payload 1.4 whose Draco mesh has the colours, cleared, the stream cut,
+  // damaged bytes.
+  options.stream_colors = false;
+  CheckColorFlagCutAndDamage(good, MustEncode(image, options), "colors.sdvi");
 }
 
 TEST_CASE("the golden payload 1.5 file reads (kept forever)", "[codec][colors][color_stream]") {
@@ -466,39 +474,15 @@ TEST_CASE("a grey image's colour in the tag stream: header rules and damaged byt
   const std::vector<uint8_t> good = MustEncode(grey, options);
   REQUIRE(good[5] == 6);
   REQUIRE(good[10] == 3);
-  Image out;
   // In a 1.5 payload, without the positions' flag, without the grey flag (no colour coding
   // left), with decorrelated colours too: corrupt.
   sdvi::testing::CheckRefused(
       good, {{5, 5}, {10, 2}, {6, static_cast<uint8_t>(good[6] & ~4)}, {6, static_cast<uint8_t>(good[6] | 8)}},
       "grey.sdvi");
-  // The flag set on a payload whose Draco mesh has the grey COLOR: corrupt; cleared on a 1.6
-  // payload: the Draco mesh has no COLOR attribute.
-  {
-    options.stream_grey_colors = false;
-    std::vector<uint8_t> bad = MustEncode(grey, options);
-    options.stream_grey_colors = true;
-    REQUIRE(bad[10] == 1);
-    bad[5] = 6;
-    bad[10] = 3;
-    sdvi::testing::FixPayloadChecksum(&bad);
-    CHECK(sdvi::DecodeDracoPayload(bad, "grey.sdvi", &out).code() == StatusCode::kCorrupt);
-    bad = good;
-    bad[10] = 1;
-    sdvi::testing::FixPayloadChecksum(&bad);
-    CHECK(sdvi::DecodeDracoPayload(bad, "grey.sdvi", &out).code() == StatusCode::kCorrupt);
-  }
-  // Cut short: corrupt.
-  std::vector<uint8_t> cut = good;
-  const uint32_t tags = GetU32(cut, 32);
-  cut.resize(cut.size() - tags / 2);
-  PutU32(&cut, 32, tags - tags / 2);
-  sdvi::testing::FixPayloadChecksum(&cut);
-  CHECK(sdvi::DecodeDracoPayload(cut, "cut.sdvi", &out).code() == StatusCode::kCorrupt);
-  // Damaged bytes behind a valid checksum: errors or images, never a crash; many are errors.
-  int tried = 0;
-  const int errors = sdvi::testing::DamagedPayloadErrors(good, 5, 3, &tried);
-  CHECK(errors > tried / 4);
+  // The flag set on a payload whose Draco mesh has the grey COLOR, cleared, the stream cut,
+  // damaged bytes.
+  options.stream_grey_colors = false;
+  CheckColorFlagCutAndDamage(good, MustEncode(grey, options), "grey.sdvi");
 }
 
 TEST_CASE("the golden payload 1.6 file reads (kept forever)", "[codec][colors][color_stream][grey]") {
