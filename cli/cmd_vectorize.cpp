@@ -140,13 +140,19 @@ Status VectorizeCommand(VectorizeArgs& args) {
   std::string note;
   nlohmann::json rate_report;
   auto named = [&](const Status& s) { return s.ok() ? s : Status(s.code(), input + ": " + s.message()); };
+  // The fit's float render (16 bytes a pixel) is needed only by --debug-dir: dropped as soon
+  // as the fit returns, before the file is measured.
+  auto take = [&](VectorizeResult&& v) {
+    result = std::move(v);
+    if (args.debug_dir.empty()) result.reconstruction = Raster();
+  };
   if (compress) {
     RateResult compressed;
     if (has_quality || has_bytes || options.target_psnr > 0) {
       if (options.target_psnr > 0) target.psnr = options.target_psnr;
       StatusOr<TargetResult> t = VectorizeForTarget(raster, mask_ptr, options, target, rate);
       if (!t.ok()) return named(t.status());
-      result = std::move(t->vectorized);
+      take(std::move(t->vectorized));
       compressed = std::move(t->file);
       reached = t->reached;
       note = t->note;
@@ -154,7 +160,7 @@ Status VectorizeCommand(VectorizeArgs& args) {
     } else {
       StatusOr<VectorizeResult> v = sdvi::Vectorize(raster, mask_ptr, options);
       if (!v.ok()) return named(v.status());
-      result = std::move(*v);
+      take(std::move(*v));
       StatusOr<RateResult> c = CompressForRate(result, raster, mask_ptr, options.fit, rate);
       if (!c.ok()) return named(c.status());
       compressed = std::move(*c);
@@ -171,7 +177,7 @@ Status VectorizeCommand(VectorizeArgs& args) {
   } else {
     StatusOr<VectorizeResult> v = sdvi::Vectorize(raster, mask_ptr, options);
     if (!v.ok()) return named(v.status());
-    result = std::move(*v);
+    take(std::move(*v));
     SDVI_ASSIGN_OR_RETURN(bytes, EncodeImage(result.image, nullptr, output));
     SDVI_ASSIGN_OR_RETURN(Image decoded, DecodeImage(bytes, output));
     SDVI_ASSIGN_OR_RETURN(file_psnr, FileQualityPsnr(decoded, raster, options.threads));

@@ -2,6 +2,8 @@
 // Metrics (spec/METHOD.md section 9) against an independent, direct computation.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -180,4 +182,105 @@ TEST_CASE("MSSIM is the same for any thread count", "[metrics]") {
       }
     }
   }
+}
+
+TEST_CASE("An 8-bit reconstruction measures as the float raster its bytes hold", "[metrics][render8]") {
+  // A float RGBA render-like raster: colours off the integers and past 0..255, alpha over
+  // 0..1 with values at and around the 0.5 domain threshold; its 8-bit copy by the PNG rule
+  // (colours round(clamp(v, 0, 255)), alpha round(255 a), halves away from zero) and its
+  // RoundTo8Bit copy. The two must give the same metrics bit for bit.
+  const int w = 61, h = 47;
+  Raster clean, noisy;
+  SyntheticPair(w, h, 3, clean, noisy);
+  Raster f(w, h, 4);
+  Raster8 bytes(w, h, 4);
+  Lcg rng(11);
+  // 255 a: 0, 124.95, 127.245, 127.5 (-> 128), 128.01, 191.25, 255; the first three are out.
+  const float alphas[] = {0.f, 0.49f, 0.499f, 0.5f, 0.502f, 0.75f, 1.f, 1.f, 1.f, 1.f};
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      for (int c = 0; c < 3; ++c) f.at(x, y, c) = float(noisy.at(x, y, c) + (rng.Next() - 0.5) * 30.0 - 10.0);
+      f.at(x, y, 3) = alphas[(x * 7 + y * 3) % 10];
+      for (int c = 0; c < 4; ++c) {
+        const double v = f.at(x, y, c);
+        bytes.at(x, y, c) = uint8_t(c == 3 ? std::round(std::clamp(v, 0.0, 1.0) * 255.0) : std::round(std::clamp(v, 0.0, 255.0)));
+      }
+    }
+  Raster rounded = f;
+  RoundTo8Bit(rounded);
+  Raster reference = clean;  // and one with an alpha of its own
+  Raster reference_alpha(w, h, 4);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      for (int c = 0; c < 3; ++c) reference_alpha.at(x, y, c) = clean.at(x, y, c);
+      reference_alpha.at(x, y, 3) = (x + y) % 9 == 0 ? 0.f : 1.f;
+    }
+  for (const Raster* ref : {&reference, &reference_alpha}) {
+    auto want = CompareImages(rounded, *ref, 2);
+    auto got = CompareImages(bytes, *ref, 2);
+    auto pixels_only = ComparePixelErrors(bytes, *ref);
+    REQUIRE(want.ok());
+    REQUIRE(got.ok());
+    REQUIRE(pixels_only.ok());
+    CHECK(want->pixels < uint64_t(w) * h);
+    CHECK(got->pixels == want->pixels);
+    CHECK(got->psnr == want->psnr);  // bit for bit
+    CHECK(got->mse == want->mse);
+    CHECK(got->mean_error == want->mean_error);
+    CHECK(got->mssim == want->mssim);
+    CHECK(pixels_only->psnr == want->psnr);
+    CHECK(pixels_only->mean_error == want->mean_error);
+    CHECK(pixels_only->pixels == want->pixels);
+    CHECK(std::isnan(pixels_only->mssim));
+  }
+  // Grey: one byte channel against a grey reference.
+  Raster8 grey(w, h, 1);
+  Raster grey_float(w, h, 1), grey_ref(w, h, 1);
+  for (size_t p = 0; p < size_t(w) * h; ++p) {
+    grey.data[p] = bytes.data[p * 4];
+    grey_float.data[p] = float(bytes.data[p * 4]);
+    grey_ref.data[p] = clean.data[p * 3];
+  }
+  auto want = CompareImages(grey_float, grey_ref);
+  auto got = CompareImages(grey, grey_ref);
+  REQUIRE(want.ok());
+  REQUIRE(got.ok());
+  CHECK(got->psnr == want->psnr);
+  CHECK(got->mssim == want->mssim);
+  // Bad input: the float overload's codes.
+  CHECK(CompareImages(Raster8(8, 8, 3), Raster(9, 8, 3)).status().code() == StatusCode::kInvalidArgument);
+  CHECK(ComparePixelErrors(Raster8(), Raster(8, 8, 3)).status().code() == StatusCode::kEmptyInput);
+  CHECK(ComparePixelErrors(Raster8(8, 8, 4), Raster(8, 8, 3)).status().code() == StatusCode::kEmptyInput);
+  Raster8 broken(8, 8, 3);
+  broken.data.resize(10);
+  CHECK(ComparePixelErrors(broken, Raster(8, 8, 3)).status().code() == StatusCode::kInvalidArgument);
+}
+
+TEST_CASE("A vectorized file's PSNR is that of its 8-bit render", "[metrics][render8]") {
+  // What rate control measures (Render8 + ComparePixelErrors) against the rule of
+  // spec/RATE.md 1 computed the long way: the float render, rounded as its PNG, compared.
+  sdvi::test::GridSpec spec;
+  spec.xs = {0, 7, 13.5, 20, 26, 33};
+  spec.ys = {0, 6, 12.5, 19, 25};
+  spec.colour = [](double x, double y) {
+    return std::array<float, 3>{float(40 + 6.1 * x), float(200 - 3.3 * y), float(90 + 2.2 * x * y / 10)};
+  };
+  const Image image = sdvi::test::GridImage(spec);
+  Raster reference(int(image.width), int(image.height), 3);
+  for (int y = 0; y < reference.height; ++y)
+    for (int x = 0; x < reference.width; ++x)
+      for (int c = 0; c < 3; ++c) reference.at(x, y, c) = float((x * 37 + y * 11 + c * 50) % 256);
+  RenderOptions o;
+  o.viewport = Viewport::Identity(reference.width, reference.height);
+  auto f = Render(image, o);
+  auto b = Render8(image, o);
+  REQUIRE(f.ok());
+  REQUIRE(b.ok());
+  RoundTo8Bit(*f);
+  auto want = CompareImages(*f, reference);
+  auto got = ComparePixelErrors(*b, reference);
+  REQUIRE(want.ok());
+  REQUIRE(got.ok());
+  CHECK(got->psnr == want->psnr);
+  CHECK(std::isfinite(got->psnr));
 }

@@ -6,6 +6,7 @@
 #include <limits>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "scan_convert.h"
@@ -27,16 +28,29 @@ std::array<double, 2 * kRadius + 1> GaussianWindow() {
   return g;
 }
 
-// One colour channel of a raster read in place: value p = data[p * stride] (as float).
+// One colour channel of a raster (float) or an 8-bit raster (uint8_t) read in place: value
+// p = data[p * stride], exact in double either way.
+template <typename T>
 struct ChannelView {
-  const float* data;
+  const T* data;
   size_t stride;
-  double operator[](size_t p) const { return data[p * stride]; }
+  double operator[](size_t p) const { return double(data[p * stride]); }
 };
 
 // The view of colour channel c (0..2) of r; grey rasters count as R = G = B.
-ChannelView ViewOf(const Raster& r, int c) {
-  return {r.data.data() + (r.channels >= 3 ? c : 0), size_t(r.channels)};
+template <typename R>
+auto ViewOf(const R& r, int c) {
+  using T = typename decltype(r.data)::value_type;
+  return ChannelView<T>{r.data.data() + (r.channels >= 3 ? c : 0), size_t(r.channels)};
+}
+
+// Whether pixel p lies in r's domain for the metrics: alpha > 0.5 (an 8-bit alpha a stands for
+// a / 255, so a > 127); every pixel when r has no alpha.
+bool InDomain(const Raster& r, size_t p) {
+  return !r.has_alpha() || r.data[p * r.channels + r.channels - 1] > 0.5f;
+}
+bool InDomain(const Raster8& r, size_t p) {
+  return !r.has_alpha() || r.data[p * r.channels + r.channels - 1] > 127;
 }
 
 // Rows of output a thread takes per slab of ChannelSsim (each also filters kRadius rows on
@@ -59,7 +73,8 @@ struct SsimSum {
   double sum = 0;
   uint64_t count = 0;
 };
-SsimSum ChannelSsim(ChannelView x, ChannelView y, const std::vector<uint8_t>& mask,
+template <typename X, typename Y>
+SsimSum ChannelSsim(X x, Y y, const std::vector<uint8_t>& mask,
                     const std::vector<uint8_t>& full_row, int w, int h, int threads) {
   const auto g = GaussianWindow();
   constexpr int kWin = 2 * kRadius + 1;
@@ -193,11 +208,10 @@ SsimSum ChannelSsim(ChannelView x, ChannelView y, const std::vector<uint8_t>& ma
   return out;
 }
 
-}  // namespace
-
-StatusOr<ImageMetrics> CompareImages(const Raster& reconstruction, const Raster& reference, int threads) {
-  const Raster& a = reconstruction;
-  const Raster& b = reference;
+// CompareImages for a reconstruction a held as floats (Raster) or bytes (Raster8); the MSSIM
+// only when with_mssim (else NaN).
+template <typename A>
+StatusOr<ImageMetrics> Compare(const A& a, const Raster& b, int threads, bool with_mssim) {
   if (a.empty() || b.empty())
     return Status(StatusCode::kEmptyInput, "compare: an image is empty (" + std::to_string(a.width) + "x" +
                                                std::to_string(a.height) + " vs " + std::to_string(b.width) +
@@ -207,23 +221,22 @@ StatusOr<ImageMetrics> CompareImages(const Raster& reconstruction, const Raster&
                   "compare: sizes differ: reconstruction " + std::to_string(a.width) + "x" +
                       std::to_string(a.height) + ", reference " + std::to_string(b.width) + "x" +
                       std::to_string(b.height));
-  for (const Raster* r : {&a, &b}) {
-    if (r->channels < 1 || r->channels > 4 ||
-        r->data.size() != size_t(r->width) * r->height * r->channels)
+  auto bad_shape = [](int channels, size_t samples, size_t pixels) {
+    return channels < 1 || channels > 4 || samples != pixels * size_t(channels);
+  };
+  const size_t npix = size_t(a.width) * a.height;
+  for (auto [channels, samples] : {std::pair{a.channels, a.data.size()}, std::pair{b.channels, b.data.size()}}) {
+    if (bad_shape(channels, samples, npix))
       return Status(StatusCode::kInvalidArgument,
-                    "compare: raster has " + std::to_string(r->channels) + " channels and " +
-                        std::to_string(r->data.size()) + " samples; expected 1-4 channels, width*height*channels");
+                    "compare: raster has " + std::to_string(channels) + " channels and " +
+                        std::to_string(samples) + " samples; expected 1-4 channels, width*height*channels");
   }
   const int w = a.width, h = a.height;
-  const size_t npix = size_t(w) * h;
   std::vector<uint8_t> mask(npix, 1);
   uint64_t count = 0;
   for (size_t p = 0; p < npix; ++p) {
-    bool in = true;
-    if (a.has_alpha() && !(a.data[p * a.channels + a.channels - 1] > 0.5f)) in = false;
-    if (b.has_alpha() && !(b.data[p * b.channels + b.channels - 1] > 0.5f)) in = false;
-    mask[p] = in;
-    count += in;
+    mask[p] = InDomain(a, p) && InDomain(b, p);
+    count += mask[p];
   }
   if (count == 0) return Status(StatusCode::kEmptyInput, "compare: no pixel lies in both images' domains (alpha > 0.5)");
 
@@ -237,16 +250,17 @@ StatusOr<ImageMetrics> CompareImages(const Raster& reconstruction, const Raster&
   const int nchan = grey ? 1 : 3;
   double sq = 0, abs_sum = 0, ssim_sum = 0;
   uint64_t ssim_count = 0;
-  // One channel of each image, read in place as the rasters' floats (exact; every sum is in
-  // double).
+  // One channel of each image, read in place (exact; every sum is in double).
   for (int c = 0; c < nchan; ++c) {
-    const ChannelView xa = ViewOf(a, c), xb = ViewOf(b, c);
+    const auto xa = ViewOf(a, c);
+    const auto xb = ViewOf(b, c);
     for (size_t p = 0; p < npix; ++p) {
       if (!mask[p]) continue;
       const double d = xa[p] - xb[p];
       sq += d * d;
       abs_sum += std::abs(d);
     }
+    if (!with_mssim) continue;
     const SsimSum s = ChannelSsim(xa, xb, mask, full_row, w, h, threads);
     ssim_sum += s.count ? s.sum / double(s.count) : 0.0;
     ssim_count += s.count;
@@ -258,6 +272,20 @@ StatusOr<ImageMetrics> CompareImages(const Raster& reconstruction, const Raster&
   m.psnr = m.mse > 0 ? 10.0 * std::log10(255.0 * 255.0 / m.mse) : std::numeric_limits<double>::infinity();
   m.mssim = ssim_count ? ssim_sum / nchan : std::numeric_limits<double>::quiet_NaN();
   return m;
+}
+
+}  // namespace
+
+StatusOr<ImageMetrics> CompareImages(const Raster& reconstruction, const Raster& reference, int threads) {
+  return Compare(reconstruction, reference, threads, /*with_mssim=*/true);
+}
+
+StatusOr<ImageMetrics> CompareImages(const Raster8& reconstruction, const Raster& reference, int threads) {
+  return Compare(reconstruction, reference, threads, /*with_mssim=*/true);
+}
+
+StatusOr<ImageMetrics> ComparePixelErrors(const Raster8& reconstruction, const Raster& reference) {
+  return Compare(reconstruction, reference, /*threads=*/1, /*with_mssim=*/false);
 }
 
 void RoundTo8Bit(Raster& raster) {
