@@ -99,15 +99,15 @@ StatusOr<CompareInput> LoadCompareInput(const std::string& path) {
   return in;
 }
 
-// Renders image at the given output size (the whole image).
-StatusOr<Raster> RenderAtSize(const Image& image, int width, int height, int levels) {
+// Render options for the whole image at the given output size.
+StatusOr<RenderOptions> AtSize(const Image& image, int width, int height, int levels) {
   if (image.width == 0 || image.height == 0)
     return Status(StatusCode::kEmptyInput, "the image has no size (width or height 0)");
   RenderOptions o;
   o.viewport.width = width, o.viewport.height = height;
   o.viewport.scale_x = double(width) / image.width, o.viewport.scale_y = double(height) / image.height;
   o.levels = levels;
-  return Render(image, o);
+  return o;
 }
 
 // The output format of `sdvi render`: --format, else the output's extension.
@@ -219,28 +219,32 @@ int Compare(const CompareArgs& args) {
   if (!a.ok()) return ReportError(cmd, a.status());
   auto b = LoadCompareInput(args.b);
   if (!b.ok()) return ReportError(cmd, b.status());
-  // A .sdvi is rendered at the other input's raster size (at its own size if both are .sdvi).
-  if (a->is_sdvi && !b->is_sdvi) {
-    auto r = RenderAtSize(a->image, b->raster.width, b->raster.height, args.levels);
-    if (!r.ok()) return ReportError(cmd, Status(r.status().code(), args.a + ": " + r.status().message()));
-    a->raster = std::move(*r);
-  } else if (a->is_sdvi) {
-    auto r = RenderAtSize(a->image, int(a->image.width), int(a->image.height), args.levels);
-    if (!r.ok()) return ReportError(cmd, Status(r.status().code(), args.a + ": " + r.status().message()));
-    a->raster = std::move(*r);
+  // A .sdvi is rendered at the other input's raster size (at its own size if both are .sdvi),
+  // and counts as its 8-bit render, as its PNG would (spec/RATE.md 1: one PSNR): A straight
+  // into bytes (Render8, compared in place), B as the float render rounded.
+  const int width = a->is_sdvi ? (b->is_sdvi ? int(a->image.width) : b->raster.width) : a->raster.width;
+  const int height = a->is_sdvi ? (b->is_sdvi ? int(a->image.height) : b->raster.height) : a->raster.height;
+  auto named = [](const std::string& path, const Status& s) { return Status(s.code(), path + ": " + s.message()); };
+  Raster8 a_render;
+  if (a->is_sdvi) {
+    auto o = AtSize(a->image, width, height, args.levels);
+    auto r = o.ok() ? Render8(a->image, *o) : StatusOr<Raster8>(o.status());
+    if (!r.ok()) return ReportError(cmd, named(args.a, r.status()));
+    a_render = std::move(*r);
   }
   if (b->is_sdvi) {
-    auto r = RenderAtSize(b->image, a->raster.width, a->raster.height, args.levels);
-    if (!r.ok()) return ReportError(cmd, Status(r.status().code(), args.b + ": " + r.status().message()));
+    auto o = AtSize(b->image, width, height, args.levels);
+    auto r = o.ok() ? Render(b->image, *o) : StatusOr<Raster>(o.status());
+    if (!r.ok()) return ReportError(cmd, named(args.b, r.status()));
     b->raster = std::move(*r);
+    RoundTo8Bit(b->raster);
   }
-  // A .sdvi counts as its 8-bit render, as its PNG would (spec/RATE.md 1: one PSNR).
-  if (a->is_sdvi) RoundTo8Bit(a->raster);
-  if (b->is_sdvi) RoundTo8Bit(b->raster);
-  auto m = CompareImages(a->raster, b->raster);
+  // The metrics are the same for any thread count: all cores.
+  auto m = a->is_sdvi ? CompareImages(a_render, b->raster, 0) : CompareImages(a->raster, b->raster, 0);
   if (!m.ok())
     return ReportError(cmd, Status(m.status().code(), args.a + " vs " + args.b + ": " + m.status().message()));
-  const bool grey = a->raster.channels < 3 && b->raster.channels < 3;
+  const int a_channels = a->is_sdvi ? a_render.channels : a->raster.channels;
+  const bool grey = a_channels < 3 && b->raster.channels < 3;
   if (args.json) {
     nlohmann::ordered_json j;
     j["psnr"] = std::isfinite(m->psnr) ? nlohmann::json(m->psnr) : nlohmann::json(nullptr);  // null: identical
@@ -249,8 +253,8 @@ int Compare(const CompareArgs& args) {
     j["mean_error"] = m->mean_error;
     j["mse"] = m->mse;
     j["pixels"] = m->pixels;
-    j["width"] = a->raster.width;
-    j["height"] = a->raster.height;
+    j["width"] = width;
+    j["height"] = height;
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     if (std::isfinite(m->psnr))
@@ -259,8 +263,8 @@ int Compare(const CompareArgs& args) {
       std::printf("PSNR        inf (identical)\n");
     std::printf("MSSIM       %.5f (Gaussian 11x11, sigma 1.5; mean over %s)\n", m->mssim, grey ? "grey" : "R, G, B");
     std::printf("mean error  %.4f (8-bit units)\n", m->mean_error);
-    std::printf("pixels      %llu of %dx%d\n", static_cast<unsigned long long>(m->pixels), a->raster.width,
-                a->raster.height);
+    std::printf("pixels      %llu of %dx%d\n", static_cast<unsigned long long>(m->pixels), width,
+                height);
   }
   return kExitOk;
 }
