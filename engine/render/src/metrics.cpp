@@ -241,8 +241,8 @@ StatusOr<ImageMetrics> Compare(const A& a, const Raster& b, int threads, bool wi
   if (count == 0) return Status(StatusCode::kEmptyInput, "compare: no pixel lies in both images' domains (alpha > 0.5)");
 
   // Rows whose every pixel is compared: ChannelSsim filters them without per-tap tests.
-  std::vector<uint8_t> full_row(size_t(h), 1);
-  for (int y = 0; y < h; ++y) {
+  std::vector<uint8_t> full_row(with_mssim ? size_t(h) : 0, 1);
+  for (int y = 0; y < int(full_row.size()); ++y) {
     for (int x = 0; x < w && full_row[size_t(y)]; ++x) full_row[size_t(y)] = mask[size_t(y) * w + x];
   }
 
