@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 #include <vector>
 
 #include "render_meshes.h"
@@ -78,7 +79,7 @@ RenderOptions AtScale(const Image& img, double scale, int threads) {
 }
 
 // Pixels whose bytes differ between a and b (4 channels).
-size_t DifferingPixels(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+size_t DifferingPixels(std::span<const uint8_t> a, std::span<const uint8_t> b) {
   size_t n = 0;
   for (size_t p = 0; p + 3 < std::min(a.size(), b.size()); p += 4)
     n += !std::equal(a.begin() + p, a.begin() + p + 4, b.begin() + p);

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <thread>
 #include <vector>
@@ -257,22 +258,29 @@ void AntialiasBoundary(const std::vector<Edge>& boundary, const std::vector<Vert
   }
 }
 
-// Draws the fine triangles into data (zeroed RGBA, viewport size) in row bands, then the
-// domain-edge coverage: the body of RenderFineMesh and RenderFineMesh8.
+// Draws the fine triangles into data (RGBA, viewport size) in row bands, then the
+// domain-edge coverage: the body of RenderFineMesh and RenderFineMesh8. data is zeroed
+// already, or (zero_bands) unwritten: then each band zeroes its own rows before drawing
+// them, so that the output's first touch (page faults included) is spread over the threads
+// and each band's pixels are in cache when drawn.
 template <typename Pixels>
 void DrawFineMesh(const std::vector<Triangle>& triangles, const std::vector<Vertex>& fine, const Viewport& viewport,
-                  const std::vector<Edge>* boundary, int threads, typename Pixels::Sample* data) {
+                  const std::vector<Edge>* boundary, int threads, bool zero_bands, typename Pixels::Sample* data) {
   const std::vector<FixedPoint> pts = ToFixedAll(fine, viewport, threads);
   const int width = viewport.width;
   const RowBandBins bins = BinTrianglesByRowBand(triangles, pts, width, viewport.height,
                                                  BandRowsFor(width, 4 * sizeof(typename Pixels::Sample)), threads);
   ForEachBand(bins.bands(), threads, viewport.height, [&](int band) {
     const int row0 = band * bins.band_rows, row1 = std::min(viewport.height, row0 + bins.band_rows);
-    // The band's pixels brought into cache in address order first: the triangles then
-    // touch them in no order, and a miss each 16 pixels was most of the drawing time.
-    const auto* band_begin = reinterpret_cast<const char*>(data + size_t(row0) * width * 4);
-    const auto* band_end = reinterpret_cast<const char*>(data + size_t(row1) * width * 4);
-    for (const char* p = band_begin; p < band_end; p += 64) __builtin_prefetch(p, 1);
+    // The band's pixels brought into cache in address order first (zeroed, or prefetched):
+    // the triangles then touch them in no order, and a miss each 16 pixels was most of the
+    // drawing time.
+    auto* band_begin = reinterpret_cast<char*>(data + size_t(row0) * width * 4);
+    auto* band_end = reinterpret_cast<char*>(data + size_t(row1) * width * 4);
+    if (zero_bands)
+      std::memset(band_begin, 0, size_t(band_end - band_begin));
+    else
+      for (const char* p = band_begin; p < band_end; p += 64) __builtin_prefetch(p, 1);
     TriangleSetup s;
     for (uint32_t k = bins.offsets[size_t(band)]; k < bins.offsets[size_t(band) + 1]; ++k) {
       const uint32_t t = bins.triangles[k];
@@ -312,7 +320,7 @@ Raster RenderFineMesh(const std::vector<Triangle>& triangles, const std::vector<
   Raster out;
   out.width = viewport.width, out.height = viewport.height, out.channels = 4;
   AssignZeroedLarge(out.data, size_t(viewport.width) * viewport.height * 4);
-  DrawFineMesh<FloatPixels>(triangles, fine, viewport, boundary, threads, out.data.data());
+  DrawFineMesh<FloatPixels>(triangles, fine, viewport, boundary, threads, false, out.data.data());
   return out;
 }
 
@@ -321,8 +329,10 @@ Raster8 RenderFineMesh8(const std::vector<Triangle>& triangles, const std::vecto
   if (!ValidViewport(viewport)) return Raster8();
   Raster8 out;
   out.width = viewport.width, out.height = viewport.height, out.channels = 4;
-  AssignZeroedLarge(out.data, size_t(viewport.width) * viewport.height * 4);
-  DrawFineMesh<BytePixels>(triangles, fine, viewport, boundary, threads, out.data.data());
+  // Left unwritten here (DefaultInitAllocator): the bands zero their own rows.
+  internal::ReserveLarge(out.data, size_t(viewport.width) * viewport.height * 4);
+  out.data.resize(size_t(viewport.width) * viewport.height * 4);
+  DrawFineMesh<BytePixels>(triangles, fine, viewport, boundary, threads, true, out.data.data());
   return out;
 }
 
