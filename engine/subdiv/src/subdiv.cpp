@@ -7,6 +7,7 @@
 #include <string>
 #include <thread>
 
+#include "sdvi/default_init_allocator.h"
 #include "sdvi/large_buffers.h"
 #include "sdvi/tagged_mesh.h"
 
@@ -499,8 +500,11 @@ StatusOr<RefinedMesh> RefineImage(const Image& image, const LimitSurfaceOptions&
   SDVI_ASSIGN_OR_RETURN(RefinementPlan plan, MakePlan(image, options));
   TaggedMesh mesh = std::move(plan.base);
   plan.base = TaggedMesh();
-  // Values of the current level, 5 doubles a vertex.
-  std::vector<double> values(5 * size_t{mesh.num_vertices()});
+  // Values of the current level, 5 doubles a vertex. A level's array is written wholly by
+  // the threads that compute it (DefaultInitAllocator: no zero fill first), so its first
+  // touch is spread over them.
+  using Values = std::vector<double, DefaultInitAllocator<double>>;
+  Values values(5 * size_t{mesh.num_vertices()});
   for (uint32_t i = 0; i < mesh.num_vertices(); ++i) {
     const Vertex& v = image.vertices[plan.vertex_map.empty() ? i : plan.vertex_map[i]];
     const double src[5] = {v.x, v.y, v.r, v.g, v.b};
@@ -510,7 +514,7 @@ StatusOr<RefinedMesh> RefineImage(const Image& image, const LimitSurfaceOptions&
   // (the masks are not built: ApplyRefinementRows), rows split over threads.
   auto refine_values = [&]() {
     const size_t rows = size_t{mesh.num_vertices()} + mesh.num_edges();
-    std::vector<double> next;
+    Values next;
     internal::ReserveLarge(next, 5 * rows);
     next.resize(5 * rows);
     ForRowBlocks(rows, options.threads, [&](size_t begin, size_t end) {
@@ -533,7 +537,7 @@ StatusOr<RefinedMesh> RefineImage(const Image& image, const LimitSurfaceOptions&
   const uint32_t nv = mesh.num_vertices();
   // An edge child's limit comes from its one-ring at level r (EdgeChildLimitRing): the
   // level-r values are computed once, not once per ring they belong to.
-  std::vector<double> children;
+  Values children;
   if (options.to_limit && refine_once) children = refine_values();
   ForRowBlocks(selection.vertices.size(), options.threads, [&](size_t begin, size_t end) {
     double v[5];

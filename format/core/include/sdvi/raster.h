@@ -9,10 +9,9 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <memory>
-#include <new>
-#include <utility>
 #include <vector>
+
+#include "sdvi/default_init_allocator.h"
 
 namespace sdvi {
 
@@ -26,30 +25,6 @@ struct Raster {
   bool empty() const { return width <= 0 || height <= 0; }
   float& at(int x, int y, int c) { return data[(size_t(y) * width + x) * channels + c]; }
   float at(int x, int y, int c) const { return data[(size_t(y) * width + x) * channels + c]; }
-};
-
-// std::allocator, except that a value-less construct (resize(n), vector(n)) leaves the new
-// elements default-initialised (for bytes: unwritten), so that a renderer can write the
-// whole array from several threads, each zeroing its own part first (spec/METHOD.md
-// section 4, item 5), instead of one thread zeroing it all before.
-template <typename T>
-struct DefaultInitAllocator : std::allocator<T> {
-  using value_type = T;
-  template <typename U>
-  struct rebind {
-    using other = DefaultInitAllocator<U>;
-  };
-  DefaultInitAllocator() = default;
-  template <typename U>
-  DefaultInitAllocator(const DefaultInitAllocator<U>&) noexcept {}
-  template <typename U>
-  void construct(U* p) noexcept(noexcept(::new(static_cast<void*>(p)) U)) {
-    ::new (static_cast<void*>(p)) U;
-  }
-  template <typename U, typename... Args>
-  void construct(U* p, Args&&... args) {
-    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-  }
 };
 
 // Raster8: an 8-bit image as an 8-bit PNG stores it, the renderer's output for PNG files
