@@ -2,6 +2,8 @@
 // Tagged topology: tags, refinement numbering, validation errors (tagged_mesh.h).
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+
 #include "sdvi/subdiv.h"
 #include "sdvi/tagged_mesh.h"
 #include "test_meshes.h"
@@ -227,4 +229,42 @@ TEST_CASE("Random small meshes: a specific error or a consistent surface, never 
   }
   CHECK(built > 10);
   CHECK(refused > 10);
+}
+
+TEST_CASE("Refine builds the same tables for any thread count", "[topology]") {
+  // 2 x 170 x 120 triangles: several blocks of 16384 for the threads; a crease polyline
+  // across and a corner, so that the tags are not all alike.
+  Image image = test::GridImage(171, 121, 0.2, 3);
+  auto g = [](int i, int j) { return test::GridIndex(171, i, j); };
+  for (int i = 10; i < 150; ++i) image.crease_edges.push_back(Edge::Of(g(i, 60), g(i + 1, 60)));
+  std::sort(image.crease_edges.begin(), image.crease_edges.end());
+  image.corners = {g(80, 30)};
+  auto mesh = TaggedMesh::FromImage(image);
+  REQUIRE(mesh.ok());
+  REQUIRE(mesh->num_triangles() > 2 * 16384);
+  auto same = [](const TaggedMesh& a, const TaggedMesh& b) {
+    REQUIRE(a.num_vertices() == b.num_vertices());
+    REQUIRE(a.num_edges() == b.num_edges());
+    CHECK(a.triangles() == b.triangles());
+    CHECK(a.edges() == b.edges());
+    CHECK(a.vertex_tags() == b.vertex_tags());
+    size_t differ = 0;
+    for (size_t t = 0; t < a.num_triangles(); ++t) differ += a.triangle_edges(t) != b.triangle_edges(t);
+    for (size_t e = 0; e < a.num_edges(); ++e)
+      differ += a.edge_triangles(e) != b.edge_triangles(e) || a.is_crease(e) != b.is_crease(e);
+    for (uint32_t v = 0; v < a.num_vertices(); ++v) {
+      const auto na = a.neighbours(v), nb = b.neighbours(v), ea = a.neighbour_edges(v), eb = b.neighbour_edges(v);
+      differ += !std::equal(na.begin(), na.end(), nb.begin(), nb.end()) ||
+                !std::equal(ea.begin(), ea.end(), eb.begin(), eb.end());
+    }
+    CHECK(differ == 0);
+  };
+  const TaggedMesh one = mesh->Refine(1);
+  for (int threads : {2, 3, 0}) {
+    INFO(threads << " threads");
+    const TaggedMesh many = mesh->Refine(threads);
+    same(one, many);
+    CHECK(one.RefinedTriangles(1) == many.RefinedTriangles(threads));
+    same(one.Refine(1), many.Refine(threads));
+  }
 }

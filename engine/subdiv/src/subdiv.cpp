@@ -98,9 +98,10 @@ struct FineSelection {
   std::vector<Edge> crease_edges;
 };
 
-FineSelection SelectOutput(const RefinementPlan& plan, const TaggedMesh& mesh, bool refine_once, int levels) {
+FineSelection SelectOutput(const RefinementPlan& plan, const TaggedMesh& mesh, bool refine_once, int levels,
+                           int threads) {
   FineSelection out;
-  std::vector<Triangle> triangles = refine_once ? mesh.RefinedTriangles() : mesh.triangles();
+  std::vector<Triangle> triangles = refine_once ? mesh.RefinedTriangles(threads) : mesh.triangles();
   std::vector<VertexTag> tags = refine_once ? mesh.RefinedVertexTags() : mesh.vertex_tags();
   const size_t nt = triangles.size();
   const int shift = 2 * levels;
@@ -427,7 +428,7 @@ StatusOr<LimitSurface> BuildLimitSurface(const Image& image, const LimitSurfaceO
             next.offsets, next.indices, next.weights);
     stencils = std::move(next);
     previous = &stencils;
-    mesh = mesh.Refine();
+    mesh = mesh.Refine(options.threads);
   }
   // The last step: from level r-1 (mesh) to level r, or the limit at level r, computed
   // only for the output vertices, in float, over control vertices. The level-r topology is
@@ -445,7 +446,7 @@ StatusOr<LimitSurface> BuildLimitSurface(const Image& image, const LimitSurfaceO
     selection.vertices.resize(count);
     for (uint32_t v = 0; v < count; ++v) selection.vertices[v] = v;
   } else {
-    selection = SelectOutput(plan, mesh, refine_once, options.levels);
+    selection = SelectOutput(plan, mesh, refine_once, options.levels, options.threads);
   }
   LimitSurface surface;
   surface.levels = options.levels;
@@ -476,7 +477,7 @@ StatusOr<LimitSurface> BuildLimitSurface(const Image& image, const LimitSurfaceO
           table.offsets, table.indices, table.weights);
   if (whole) {
     stencils = SparseRows();  // the previous level's: used by the table only
-    selection = SelectOutput(plan, mesh, refine_once, options.levels);
+    selection = SelectOutput(plan, mesh, refine_once, options.levels, options.threads);
   }
   surface.triangles = std::move(selection.triangles);
   surface.parent_triangle = std::move(selection.parent_triangle);
@@ -524,12 +525,12 @@ StatusOr<RefinedMesh> RefineImage(const Image& image, const LimitSurfaceOptions&
   };
   for (int k = 0; k + 1 < options.levels; ++k) {
     values = refine_values();
-    mesh = mesh.Refine();
+    mesh = mesh.Refine(options.threads);
   }
   // The last step, as in BuildLimitSurface: only the output vertices, without the level-r
   // topology.
   const bool refine_once = options.levels > 0;
-  FineSelection selection = SelectOutput(plan, mesh, refine_once, options.levels);
+  FineSelection selection = SelectOutput(plan, mesh, refine_once, options.levels, options.threads);
   RefinedMesh out;
   out.levels = options.levels;
   internal::ReserveLarge(out.vertices, selection.vertices.size());

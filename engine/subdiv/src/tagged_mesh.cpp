@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <string>
+#include <thread>
 #include <utility>
 
 #include "sdvi/large_buffers.h"
@@ -19,6 +20,24 @@ std::string TriangleName(size_t t, const Triangle& tri) {
 
 std::string EdgeName(const Edge& e) {
   return "edge (" + std::to_string(e.a) + ", " + std::to_string(e.b) + ")";
+}
+
+// Runs body(begin, end) over contiguous blocks of [0, n), one thread a block: threads
+// requested (0 = the hardware's, at most 8), one per 16384 items at most. Each item is
+// handled by one thread, whatever their number.
+template <typename Body>
+void ForBlocks(size_t n, int threads, const Body& body) {
+  const unsigned hw = threads > 0 ? static_cast<unsigned>(threads)
+                                  : std::min(8u, std::max(1u, std::thread::hardware_concurrency()));
+  const unsigned k = static_cast<unsigned>(std::clamp<size_t>(n / 16384, 1, hw));
+  if (k == 1) {
+    body(size_t{0}, n);
+    return;
+  }
+  std::vector<std::thread> pool;
+  for (unsigned i = 1; i < k; ++i) pool.emplace_back([&body, n, i, k] { body(n * i / k, n * (i + 1) / k); });
+  body(size_t{0}, n / k);
+  for (std::thread& t : pool) t.join();
 }
 
 uint64_t EdgeKey(uint32_t a, uint32_t b) {
@@ -272,116 +291,140 @@ TaggedMesh TaggedMesh::Submesh(std::span<const uint32_t> triangles,
   return sub;
 }
 
-TaggedMesh TaggedMesh::Refine() const {
-  // Every table of the child is written once, in order (no zero fill, no second pass):
-  // on a virtual machine first-touch memory is most of the cost of a level.
+TaggedMesh TaggedMesh::Refine(int threads) const {
+  // Every table of the child is written once, each part of it by one thread (the tables
+  // not exposed as std::vector are not zero-filled first): on a virtual machine first-touch
+  // memory is most of the cost of a level, and the threads share it.
   const uint32_t nv = num_vertices_;
   const size_t ne = edges_.size(), nt = triangles_.size();
   const size_t child_edges = 2 * ne + 3 * nt;
   TaggedMesh child;
   child.num_vertices_ = static_cast<uint32_t>(nv + ne);
-  child.triangles_ = RefinedTriangles();
+  child.triangles_ = RefinedTriangles(threads);
   child.vertex_tags_ = RefinedVertexTags();
   // Half of parent edge e on the side of its end x.
   auto half = [&](uint32_t e, uint32_t x) { return static_cast<uint32_t>(edges_[e].a == x ? 2 * e : 2 * e + 1); };
   auto inner = [&](size_t t) { return static_cast<uint32_t>(2 * ne + 3 * t); };  // (m0,m1), (m1,m2), (m2,m0)
 
   internal::ReserveLarge(child.triangle_edges_, 4 * nt);
-  for (size_t t = 0; t < nt; ++t) {
-    const auto [a, b, c] = triangles_[t].v;
-    const auto [e0, e1, e2] = triangle_edges_[t];
-    const uint32_t i0 = inner(t);
-    child.triangle_edges_.push_back({half(e0, a), i0 + 2, half(e2, a)});
-    child.triangle_edges_.push_back({half(e0, b), half(e1, b), i0});
-    child.triangle_edges_.push_back({i0 + 1, half(e1, c), half(e2, c)});
-    child.triangle_edges_.push_back({i0, i0 + 1, i0 + 2});
-  }
-
+  child.triangle_edges_.resize(4 * nt);
   // Edges, their crease tags and their triangles (in increasing order): a half edge lies
   // in the corner children of its parent edge's triangles; an inner edge in a corner child
   // and the middle child.
   internal::ReserveLarge(child.edges_, child_edges);
   internal::ReserveLarge(child.edge_triangles_, child_edges);
-  child.edge_crease_.reserve(child_edges);
-  for (size_t e = 0; e < ne; ++e) {
-    const uint32_t m = nv + static_cast<uint32_t>(e);
-    for (const uint32_t end : {edges_[e].a, edges_[e].b}) {
-      child.edges_.push_back(Edge{end, m});
-      child.edge_crease_.push_back(edge_crease_[e]);
-      std::array<uint32_t, 2> tris{kNoIndex, kNoIndex};
-      for (int k = 0; k < 2; ++k) {
-        const uint32_t t = edge_triangles_[e][k];
-        if (t == kNoIndex) continue;
-        const auto& v = triangles_[t].v;
-        tris[k] = 4 * t + (v[0] == end ? 0 : v[1] == end ? 1 : 2);
-      }
-      child.edge_triangles_.push_back(tris);
+  internal::ReserveLarge(child.edge_crease_, child_edges);
+  child.edges_.resize(child_edges);
+  child.edge_triangles_.resize(child_edges);
+  child.edge_crease_.resize(child_edges);
+  ForBlocks(nt, threads, [&](size_t t0, size_t t1) {
+    for (size_t t = t0; t < t1; ++t) {
+      const auto [a, b, c] = triangles_[t].v;
+      const auto [e0, e1, e2] = triangle_edges_[t];
+      const uint32_t i0 = inner(t);
+      child.triangle_edges_[4 * t] = {half(e0, a), i0 + 2, half(e2, a)};
+      child.triangle_edges_[4 * t + 1] = {half(e0, b), half(e1, b), i0};
+      child.triangle_edges_[4 * t + 2] = {i0 + 1, half(e1, c), half(e2, c)};
+      child.triangle_edges_[4 * t + 3] = {i0, i0 + 1, i0 + 2};
+      const uint32_t m0 = nv + e0, m1 = nv + e1, m2 = nv + e2, f = static_cast<uint32_t>(4 * t);
+      const size_t k = i0;
+      child.edges_[k] = Edge::Of(m0, m1);
+      child.edges_[k + 1] = Edge::Of(m1, m2);
+      child.edges_[k + 2] = Edge::Of(m2, m0);
+      child.edge_triangles_[k] = {f + 1, f + 3};
+      child.edge_triangles_[k + 1] = {f + 2, f + 3};
+      child.edge_triangles_[k + 2] = {f, f + 3};
+      child.edge_crease_[k] = child.edge_crease_[k + 1] = child.edge_crease_[k + 2] = 0;
     }
-  }
-  for (size_t t = 0; t < nt; ++t) {
-    const auto [e0, e1, e2] = triangle_edges_[t];
-    const uint32_t m0 = nv + e0, m1 = nv + e1, m2 = nv + e2, f = static_cast<uint32_t>(4 * t);
-    child.edges_.push_back(Edge::Of(m0, m1));
-    child.edges_.push_back(Edge::Of(m1, m2));
-    child.edges_.push_back(Edge::Of(m2, m0));
-    child.edge_triangles_.push_back({f + 1, f + 3});
-    child.edge_triangles_.push_back({f + 2, f + 3});
-    child.edge_triangles_.push_back({f, f + 3});
-  }
-  child.edge_crease_.resize(child_edges, 0);
+  });
+  ForBlocks(ne, threads, [&](size_t e0, size_t e1) {
+    for (size_t e = e0; e < e1; ++e) {
+      const uint32_t m = nv + static_cast<uint32_t>(e);
+      for (int side = 0; side < 2; ++side) {
+        const uint32_t end = side == 0 ? edges_[e].a : edges_[e].b;
+        child.edges_[2 * e + side] = Edge{end, m};
+        child.edge_crease_[2 * e + side] = edge_crease_[e];
+        std::array<uint32_t, 2> tris{kNoIndex, kNoIndex};
+        for (int k = 0; k < 2; ++k) {
+          const uint32_t t = edge_triangles_[e][k];
+          if (t == kNoIndex) continue;
+          const auto& v = triangles_[t].v;
+          tris[k] = 4 * t + (v[0] == end ? 0 : v[1] == end ? 1 : 2);
+        }
+        child.edge_triangles_[2 * e + side] = tris;
+      }
+    }
+  });
 
-  // Neighbours. A vertex point's are the edge points of its edges (same order); an edge
-  // point's are the vertex points of its ends, then for each of its triangles the edge
-  // points of the triangle's two other edges.
+  // Neighbours. A vertex point's are the edge points of its edges (same order: its offsets
+  // are its parent's); an edge point's are the vertex points of its ends, then for each of
+  // its triangles the edge points of the triangle's two other edges.
   internal::ReserveLarge(child.neighbour_offsets_, size_t{child.num_vertices_} + 1);
   internal::ReserveLarge(child.neighbour_vertices_, 2 * child_edges);
   internal::ReserveLarge(child.neighbour_edges_, 2 * child_edges);
-  child.neighbour_offsets_.push_back(0);
-  auto link = [&](uint32_t vertex, uint32_t edge) {
-    child.neighbour_vertices_.push_back(vertex);
-    child.neighbour_edges_.push_back(edge);
-  };
-  auto close_vertex = [&] { child.neighbour_offsets_.push_back(static_cast<uint32_t>(child.neighbour_vertices_.size())); };
-  for (uint32_t v = 0; v < nv; ++v) {
-    for (uint32_t e : neighbour_edges(v)) link(nv + e, half(e, v));
-    close_vertex();
-  }
+  child.neighbour_offsets_.resize(size_t{child.num_vertices_} + 1);
+  child.neighbour_vertices_.resize(2 * child_edges);
+  child.neighbour_edges_.resize(2 * child_edges);
+  std::copy(neighbour_offsets_.begin(), neighbour_offsets_.end(), child.neighbour_offsets_.begin());
   for (size_t e = 0; e < ne; ++e) {
-    link(edges_[e].a, static_cast<uint32_t>(2 * e));
-    link(edges_[e].b, static_cast<uint32_t>(2 * e + 1));
-    for (uint32_t t : edge_triangles_[e]) {
-      if (t == kNoIndex) continue;
-      const auto& te = triangle_edges_[t];
-      const uint32_t i0 = inner(t);
-      if (te[0] == e) {
-        link(nv + te[1], i0);
-        link(nv + te[2], i0 + 2);
-      } else if (te[1] == e) {
-        link(nv + te[0], i0);
-        link(nv + te[2], i0 + 1);
-      } else {
-        link(nv + te[1], i0 + 1);
-        link(nv + te[0], i0 + 2);
+    const auto& et = edge_triangles_[e];
+    child.neighbour_offsets_[nv + e + 1] =
+        child.neighbour_offsets_[nv + e] + 2 + 2 * ((et[0] != kNoIndex) + (et[1] != kNoIndex));
+  }
+  ForBlocks(nv, threads, [&](size_t v0, size_t v1) {
+    for (size_t v = v0; v < v1; ++v) {
+      uint32_t at = child.neighbour_offsets_[v];
+      for (uint32_t e : neighbour_edges(static_cast<uint32_t>(v))) {
+        child.neighbour_vertices_[at] = nv + e;
+        child.neighbour_edges_[at++] = half(e, static_cast<uint32_t>(v));
       }
     }
-    close_vertex();
-  }
+  });
+  ForBlocks(ne, threads, [&](size_t e0, size_t e1) {
+    for (size_t e = e0; e < e1; ++e) {
+      uint32_t at = child.neighbour_offsets_[nv + e];
+      auto link = [&](uint32_t vertex, uint32_t edge) {
+        child.neighbour_vertices_[at] = vertex;
+        child.neighbour_edges_[at++] = edge;
+      };
+      link(edges_[e].a, static_cast<uint32_t>(2 * e));
+      link(edges_[e].b, static_cast<uint32_t>(2 * e + 1));
+      for (uint32_t t : edge_triangles_[e]) {
+        if (t == kNoIndex) continue;
+        const auto& te = triangle_edges_[t];
+        const uint32_t i0 = inner(t);
+        if (te[0] == e) {
+          link(nv + te[1], i0);
+          link(nv + te[2], i0 + 2);
+        } else if (te[1] == e) {
+          link(nv + te[0], i0);
+          link(nv + te[2], i0 + 1);
+        } else {
+          link(nv + te[1], i0 + 1);
+          link(nv + te[0], i0 + 2);
+        }
+      }
+    }
+  });
   return child;
 }
 
-std::vector<Triangle> TaggedMesh::RefinedTriangles() const {
+std::vector<Triangle> TaggedMesh::RefinedTriangles(int threads) const {
   const uint32_t nv = num_vertices_;
   std::vector<Triangle> out;
   internal::ReserveLarge(out, 4 * triangles_.size());
-  for (size_t t = 0; t < triangles_.size(); ++t) {
-    const auto [a, b, c] = triangles_[t].v;
-    const auto [e0, e1, e2] = triangle_edges_[t];
-    const uint32_t m0 = nv + e0, m1 = nv + e1, m2 = nv + e2;
-    out.push_back(Triangle{{a, m0, m2}});
-    out.push_back(Triangle{{m0, b, m1}});
-    out.push_back(Triangle{{m2, m1, c}});
-    out.push_back(Triangle{{m0, m1, m2}});
-  }
+  out.resize(4 * triangles_.size());
+  ForBlocks(triangles_.size(), threads, [&](size_t t0, size_t t1) {
+    for (size_t t = t0; t < t1; ++t) {
+      const auto [a, b, c] = triangles_[t].v;
+      const auto [e0, e1, e2] = triangle_edges_[t];
+      const uint32_t m0 = nv + e0, m1 = nv + e1, m2 = nv + e2;
+      out[4 * t] = Triangle{{a, m0, m2}};
+      out[4 * t + 1] = Triangle{{m0, b, m1}};
+      out[4 * t + 2] = Triangle{{m2, m1, c}};
+      out[4 * t + 3] = Triangle{{m0, m1, m2}};
+    }
+  });
   return out;
 }
 

@@ -25,6 +25,7 @@
 #include <span>
 #include <vector>
 
+#include "sdvi/default_init_allocator.h"
 #include "sdvi/image.h"
 #include "sdvi/status.h"
 #include "sdvi/subdiv.h"
@@ -52,11 +53,12 @@ class TaggedMesh {
   // mesh; BuildLimitSurface keeps a margin of rings around a region for that reason.
   TaggedMesh Submesh(std::span<const uint32_t> triangles, std::vector<uint32_t>* vertex_map) const;
 
-  // The next level's topology (numbering in the header comment).
-  TaggedMesh Refine() const;
+  // The next level's topology (numbering in the header comment). threads: workers for a
+  // large mesh (0 = the hardware's, at most 8); the result does not depend on it.
+  TaggedMesh Refine(int threads = 1) const;
   // Parts of Refine() for callers that need only these: the next level's triangles,
   // vertex tags and sorted crease edges.
-  std::vector<Triangle> RefinedTriangles() const;
+  std::vector<Triangle> RefinedTriangles(int threads = 1) const;
   std::vector<VertexTag> RefinedVertexTags() const;
   std::vector<Edge> RefinedCreaseEdges() const;
 
@@ -93,16 +95,21 @@ class TaggedMesh {
   // Vertex tags from edge tags, crease degrees and explicit corners.
   void TagVertices(std::span<const uint32_t> corners);
 
+  // Tables not exposed as vectors leave resize's new elements unwritten (Refine fills them
+  // from several threads, each writing its own part).
+  template <typename T>
+  using Table = std::vector<T, DefaultInitAllocator<T>>;
+
   uint32_t num_vertices_ = 0;
   std::vector<Triangle> triangles_;
-  std::vector<std::array<uint32_t, 3>> triangle_edges_;
+  Table<std::array<uint32_t, 3>> triangle_edges_;
   std::vector<Edge> edges_;
-  std::vector<std::array<uint32_t, 2>> edge_triangles_;
-  std::vector<uint8_t> edge_crease_;
+  Table<std::array<uint32_t, 2>> edge_triangles_;
+  Table<uint8_t> edge_crease_;
   std::vector<VertexTag> vertex_tags_;
-  std::vector<uint32_t> neighbour_offsets_;
-  std::vector<uint32_t> neighbour_vertices_;
-  std::vector<uint32_t> neighbour_edges_;
+  Table<uint32_t> neighbour_offsets_;
+  Table<uint32_t> neighbour_vertices_;
+  Table<uint32_t> neighbour_edges_;
 };
 
 // A sparse matrix in CSR form with double weights: row i = sum_k weights[k] * x[indices[k]].
