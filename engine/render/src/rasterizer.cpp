@@ -25,18 +25,18 @@ void AssignZeroedLarge(std::vector<T>& v, size_t n) {
 }
 template void AssignZeroedLarge<float>(std::vector<float>&, size_t);
 template void AssignZeroedLarge<uint8_t>(std::vector<uint8_t>&, size_t);
-template void AssignZeroedLarge<FixedPoint>(std::vector<FixedPoint>&, size_t);
 
-std::vector<FixedPoint> ToFixedAll(const std::vector<Vertex>& fine, const Viewport& vp, int threads) {
-  std::vector<FixedPoint> out;
-  AssignZeroedLarge(out, fine.size());
+ScratchArray<FixedPoint> ToFixedAll(const std::vector<Vertex>& fine, const Viewport& vp, int threads) {
+  ScratchArray<FixedPoint> out;
+  internal::ReserveLarge(out, fine.size());
+  out.resize(fine.size());
   ForEachChunk(fine.size(), threads, [&](size_t s0, size_t s1) {
     for (size_t i = s0; i < s1; ++i) out[i] = ToFixed(fine[i], vp);
   });
   return out;
 }
 
-RowBandBins BinTrianglesByRowBand(const std::vector<Triangle>& triangles, const std::vector<FixedPoint>& pts,
+RowBandBins BinTrianglesByRowBand(const std::vector<Triangle>& triangles, const ScratchArray<FixedPoint>& pts,
                                   int width, int height, int band_rows, int threads) {
   RowBandBins bins;
   bins.band_rows = std::max(1, band_rows);
@@ -47,7 +47,7 @@ RowBandBins BinTrianglesByRowBand(const std::vector<Triangle>& triangles, const 
   int chunks = threads > 0 ? threads : int(std::thread::hardware_concurrency());
   chunks = count < 65536 ? 1 : std::clamp(chunks, 1, 16);
   constexpr uint32_t kNoBand = std::numeric_limits<uint32_t>::max();
-  std::vector<uint32_t> range;  // first band << 16 | last band (bands <= 2^16)
+  ScratchArray<uint32_t> range;  // first band << 16 | last band (bands <= 2^16)
   internal::ReserveLarge(range, count);
   range.assign(count, kNoBand);
   std::vector<std::vector<uint32_t>> start(size_t(chunks), std::vector<uint32_t>(size_t(bands) + 1, 0));
@@ -125,7 +125,7 @@ void MapPixelsInto(const std::vector<Triangle>& triangles, const std::vector<Ver
   constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
   internal::ReserveLarge(dense, npix);
   dense.assign(npix, PixelSample{0, kNone, 0, 0, 0});
-  const std::vector<FixedPoint> pts = ToFixedAll(fine, viewport, 0);
+  const ScratchArray<FixedPoint> pts = ToFixedAll(fine, viewport, 0);
   const int width = viewport.width;
   // Row bands of cache-sized pixels, each listing its triangles in increasing index (as
   // DrawFineMesh): the lowest index still wins, and a band's pixels stay in cache while
@@ -266,7 +266,7 @@ void AntialiasBoundary(const std::vector<Edge>& boundary, const std::vector<Vert
 template <typename Pixels>
 void DrawFineMesh(const std::vector<Triangle>& triangles, const std::vector<Vertex>& fine, const Viewport& viewport,
                   const std::vector<Edge>* boundary, int threads, bool zero_bands, typename Pixels::Sample* data) {
-  const std::vector<FixedPoint> pts = ToFixedAll(fine, viewport, threads);
+  const ScratchArray<FixedPoint> pts = ToFixedAll(fine, viewport, threads);
   const int width = viewport.width;
   const RowBandBins bins = BinTrianglesByRowBand(triangles, pts, width, viewport.height,
                                                  BandRowsFor(width, 4 * sizeof(typename Pixels::Sample)), threads);

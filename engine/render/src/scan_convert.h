@@ -10,6 +10,7 @@
 #include <thread>
 #include <vector>
 
+#include "sdvi/default_init_allocator.h"
 #include "sdvi/render.h"
 
 namespace sdvi::render_internal {
@@ -44,8 +45,13 @@ inline FixedPoint ToFixed(const Vertex& v, const Viewport& vp) {
 template <typename T>
 void AssignZeroedLarge(std::vector<T>& v, size_t n);
 
+// Large scratch arrays of the scan conversion: resize leaves new elements default-initialised
+// (unwritten when trivial) and large ones lie on whole huge pages (sdvi/default_init_allocator.h).
+template <typename T>
+using ScratchArray = std::vector<T, DefaultInitAllocator<T>>;
+
 // Fixed-point output positions of all vertices.
-std::vector<FixedPoint> ToFixedAll(const std::vector<Vertex>& fine, const Viewport& vp, int threads);
+ScratchArray<FixedPoint> ToFixedAll(const std::vector<Vertex>& fine, const Viewport& vp, int threads);
 
 inline int64_t FloorDiv(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 inline int64_t CeilDiv(int64_t a, int64_t b) { return -FloorDiv(-a, b); }
@@ -180,12 +186,12 @@ inline void ForEachRowBand(int height, int threads, Body&& body) {
 struct RowBandBins {
   int band_rows = 1;
   std::vector<uint32_t> offsets{0};  // bands + 1 entries; band b = [offsets[b], offsets[b + 1])
-  std::vector<uint32_t> triangles;
+  ScratchArray<uint32_t> triangles;
   int bands() const { return int(offsets.size()) - 1; }
 };
 
 // The bins of triangles (vertex positions pts) for a width x height output.
-RowBandBins BinTrianglesByRowBand(const std::vector<Triangle>& triangles, const std::vector<FixedPoint>& pts,
+RowBandBins BinTrianglesByRowBand(const std::vector<Triangle>& triangles, const ScratchArray<FixedPoint>& pts,
                                   int width, int height, int band_rows, int threads);
 
 // Rows a band holds so that its pixels (bytes_per_pixel each) take about 512 KiB, half
