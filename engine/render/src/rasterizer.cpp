@@ -9,6 +9,10 @@
 #include <thread>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "scan_convert.h"
 #include "sdvi/large_buffers.h"
 #include "sdvi/render.h"
@@ -188,6 +192,12 @@ struct FloatPixels {
     p[0] = Clamp255(r), p[1] = Clamp255(g), p[2] = Clamp255(b);
   }
   static void SetAlpha(float* p, float a) { p[3] = a; }
+  // n pixels from px, colour (r, g, b) at the first and step[] more at each next one; pixels
+  // already drawn are kept (the lowest fine triangle index wins).
+  static void DrawSpan(float* px, int n, double r, double g, double b, const double step[3]) {
+    for (int k = 0; k < n; ++k, px += 4, r += step[0], g += step[1], b += step[2])
+      if (!Owned(px)) Draw(px, r, g, b);
+  }
 };
 struct BytePixels {
   using Sample = uint8_t;
@@ -202,6 +212,36 @@ struct BytePixels {
   static void SetAlpha(uint8_t* p, float a) {
     p[3] = uint8_t(std::round(std::clamp(double(a) * 255.0, 0.0, 255.0)));
   }
+  // As FloatPixels::DrawSpan, each pixel's bytes as Draw writes them.
+  static void DrawSpan(uint8_t* px, int n, double r, double g, double b, const double step[3]) {
+#if defined(__SSE2__)
+    // Draw's steps on (r, g) and (b, 0) in two-lane registers, one 32-bit store a pixel: the
+    // same double sums (one IEEE addition a lane a pixel, as the scalar loop), the clamp as
+    // max(v, 0) then min(., 255) (equal to Clamp255 for every double: -0 gives 0, and a NaN
+    // gives 0 where Clamp255's NaN rounds to byte 0 too), the conversion to float and the
+    // rounding int(double(f) + 0.5) lane by lane.
+    const __m128d zero = _mm_setzero_pd(), top = _mm_set1_pd(255.0), half = _mm_set1_pd(0.5);
+    const __m128d step_rg = _mm_set_pd(step[1], step[0]), step_b = _mm_set_pd(0.0, step[2]);
+    __m128d rg = _mm_set_pd(g, r), bz = _mm_set_pd(0.0, b);
+    for (int k = 0; k < n; ++k, px += 4, rg = _mm_add_pd(rg, step_rg), bz = _mm_add_pd(bz, step_b)) {
+      if (Owned(px)) continue;
+      const __m128 f_rg = _mm_cvtpd_ps(_mm_min_pd(_mm_max_pd(rg, zero), top));
+      const __m128 f_bz = _mm_cvtpd_ps(_mm_min_pd(_mm_max_pd(bz, zero), top));
+      const __m128i i_rg = _mm_cvttpd_epi32(_mm_add_pd(_mm_cvtps_pd(f_rg), half));
+      const __m128i i_bz = _mm_cvttpd_epi32(_mm_add_pd(_mm_cvtps_pd(f_bz), half));
+      const __m128i rgbz = _mm_unpacklo_epi64(i_rg, i_bz);  // r, g, b, 0 as int32 in 0..255
+      const __m128i bytes = _mm_packus_epi16(_mm_packs_epi32(rgbz, rgbz), zero_i());
+      const uint32_t word = uint32_t(_mm_cvtsi128_si32(bytes)) | 0xff000000u;  // alpha 255
+      std::memcpy(px, &word, 4);  // little-endian: r, g, b, alpha
+    }
+#else
+    for (int k = 0; k < n; ++k, px += 4, r += step[0], g += step[1], b += step[2])
+      if (!Owned(px)) Draw(px, r, g, b);
+#endif
+  }
+#if defined(__SSE2__)
+  static __m128i zero_i() { return _mm_setzero_si128(); }
+#endif
 };
 
 // Domain-edge coverage: see RenderFineMesh in sdvi/render.h.
@@ -301,11 +341,7 @@ void DrawFineMesh(const std::vector<Triangle>& triangles, const std::vector<Vert
         double r = w0 * cv[0]->r + w1 * cv[1]->r + w2 * cv[2]->r;
         double g = w0 * cv[0]->g + w1 * cv[1]->g + w2 * cv[2]->g;
         double b = w0 * cv[0]->b + w1 * cv[1]->b + w2 * cv[2]->b;
-        auto* px = data + (size_t(j) * width + i_begin) * 4;
-        for (int i = i_begin; i <= i_end; ++i, px += 4, r += step[0], g += step[1], b += step[2]) {
-          if (Pixels::Owned(px)) continue;  // lowest fine triangle index wins
-          Pixels::Draw(px, r, g, b);
-        }
+        Pixels::DrawSpan(data + (size_t(j) * width + i_begin) * 4, i_end - i_begin + 1, r, g, b, step);
       });
     }
   });
