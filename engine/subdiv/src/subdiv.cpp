@@ -7,12 +7,17 @@
 #include <string>
 #include <thread>
 
+#include "row_blocks.h"
 #include "sdvi/default_init_allocator.h"
 #include "sdvi/large_buffers.h"
 #include "sdvi/tagged_mesh.h"
 
 namespace sdvi {
 namespace {
+
+using subdiv_internal::ForRowBlocks;
+using subdiv_internal::HardwareThreads;
+using subdiv_internal::ThreadsFor;
 
 // Rings of control triangles kept around a region so that the region's fine vertices
 // see exactly the neighbourhood they would see in the whole mesh (a level-r limit point
@@ -281,29 +286,6 @@ void ComposeBlock(size_t begin, size_t end, const MaskRow& mask_row, const Spars
     }
     out.sizes.push_back(size);
   }
-}
-
-// The hardware's threads, at most 8 (asked once: the query reads a file on Linux).
-unsigned HardwareThreads() {
-  static const unsigned threads = std::min(8u, std::max(1u, std::thread::hardware_concurrency()));
-  return threads;
-}
-
-// Threads for num_rows rows of work (one for small jobs); requested = 0: the hardware's.
-unsigned ThreadsFor(size_t num_rows, int requested) {
-  const unsigned hw = requested > 0 ? static_cast<unsigned>(requested) : HardwareThreads();
-  return static_cast<unsigned>(std::clamp<size_t>(num_rows / 16384, 1, hw));
-}
-
-// Runs body(begin, end) over contiguous blocks of [0, num_rows), one thread a block
-// (ThreadsFor): each row is computed by one thread, whatever their number.
-template <typename Body>
-void ForRowBlocks(size_t num_rows, int requested_threads, const Body& body) {
-  const unsigned threads = ThreadsFor(num_rows, requested_threads);
-  std::vector<std::thread> pool;
-  for (unsigned i = 1; i < threads; ++i) pool.emplace_back(body, num_rows * i / threads, num_rows * (i + 1) / threads);
-  body(0, num_rows / threads);
-  for (std::thread& t : pool) t.join();
 }
 
 // All rows of (mask x previous) into CSR arrays, in parallel blocks; deterministic

@@ -3,9 +3,9 @@
 
 #include <algorithm>
 #include <string>
-#include <thread>
 #include <utility>
 
+#include "row_blocks.h"
 #include "sdvi/large_buffers.h"
 #include "sdvi/mesh_rules.h"
 #include "sdvi/subdiv_rules.h"
@@ -22,23 +22,7 @@ std::string EdgeName(const Edge& e) {
   return "edge (" + std::to_string(e.a) + ", " + std::to_string(e.b) + ")";
 }
 
-// Runs body(begin, end) over contiguous blocks of [0, n), one thread a block: threads
-// requested (0 = the hardware's, at most 8), one per 16384 items at most. Each item is
-// handled by one thread, whatever their number.
-template <typename Body>
-void ForBlocks(size_t n, int threads, const Body& body) {
-  const unsigned hw = threads > 0 ? static_cast<unsigned>(threads)
-                                  : std::min(8u, std::max(1u, std::thread::hardware_concurrency()));
-  const unsigned k = static_cast<unsigned>(std::clamp<size_t>(n / 16384, 1, hw));
-  if (k == 1) {
-    body(size_t{0}, n);
-    return;
-  }
-  std::vector<std::thread> pool;
-  for (unsigned i = 1; i < k; ++i) pool.emplace_back([&body, n, i, k] { body(n * i / k, n * (i + 1) / k); });
-  body(size_t{0}, n / k);
-  for (std::thread& t : pool) t.join();
-}
+using subdiv_internal::ForRowBlocks;
 
 uint64_t EdgeKey(uint32_t a, uint32_t b) {
   if (a > b) std::swap(a, b);
@@ -317,7 +301,7 @@ TaggedMesh TaggedMesh::Refine(int threads) const {
   child.edges_.resize(child_edges);
   child.edge_triangles_.resize(child_edges);
   child.edge_crease_.resize(child_edges);
-  ForBlocks(nt, threads, [&](size_t t0, size_t t1) {
+  ForRowBlocks(nt, threads, [&](size_t t0, size_t t1) {
     for (size_t t = t0; t < t1; ++t) {
       const auto [a, b, c] = triangles_[t].v;
       const auto [e0, e1, e2] = triangle_edges_[t];
@@ -337,7 +321,7 @@ TaggedMesh TaggedMesh::Refine(int threads) const {
       child.edge_crease_[k] = child.edge_crease_[k + 1] = child.edge_crease_[k + 2] = 0;
     }
   });
-  ForBlocks(ne, threads, [&](size_t e0, size_t e1) {
+  ForRowBlocks(ne, threads, [&](size_t e0, size_t e1) {
     for (size_t e = e0; e < e1; ++e) {
       const uint32_t m = nv + static_cast<uint32_t>(e);
       for (int side = 0; side < 2; ++side) {
@@ -371,7 +355,7 @@ TaggedMesh TaggedMesh::Refine(int threads) const {
     child.neighbour_offsets_[nv + e + 1] =
         child.neighbour_offsets_[nv + e] + 2 + 2 * ((et[0] != kNoIndex) + (et[1] != kNoIndex));
   }
-  ForBlocks(nv, threads, [&](size_t v0, size_t v1) {
+  ForRowBlocks(nv, threads, [&](size_t v0, size_t v1) {
     for (size_t v = v0; v < v1; ++v) {
       uint32_t at = child.neighbour_offsets_[v];
       for (uint32_t e : neighbour_edges(static_cast<uint32_t>(v))) {
@@ -380,7 +364,7 @@ TaggedMesh TaggedMesh::Refine(int threads) const {
       }
     }
   });
-  ForBlocks(ne, threads, [&](size_t e0, size_t e1) {
+  ForRowBlocks(ne, threads, [&](size_t e0, size_t e1) {
     for (size_t e = e0; e < e1; ++e) {
       uint32_t at = child.neighbour_offsets_[nv + e];
       auto link = [&](uint32_t vertex, uint32_t edge) {
@@ -414,7 +398,7 @@ std::vector<Triangle> TaggedMesh::RefinedTriangles(int threads) const {
   std::vector<Triangle> out;
   internal::ReserveLarge(out, 4 * triangles_.size());
   out.resize(4 * triangles_.size());
-  ForBlocks(triangles_.size(), threads, [&](size_t t0, size_t t1) {
+  ForRowBlocks(triangles_.size(), threads, [&](size_t t0, size_t t1) {
     for (size_t t = t0; t < t1; ++t) {
       const auto [a, b, c] = triangles_[t].v;
       const auto [e0, e1, e2] = triangle_edges_[t];
