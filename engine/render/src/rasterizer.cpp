@@ -230,7 +230,7 @@ struct BytePixels {
       const __m128i i_rg = _mm_cvttpd_epi32(_mm_add_pd(_mm_cvtps_pd(f_rg), half));
       const __m128i i_bz = _mm_cvttpd_epi32(_mm_add_pd(_mm_cvtps_pd(f_bz), half));
       const __m128i rgbz = _mm_unpacklo_epi64(i_rg, i_bz);  // r, g, b, 0 as int32 in 0..255
-      const __m128i bytes = _mm_packus_epi16(_mm_packs_epi32(rgbz, rgbz), zero_i());
+      const __m128i bytes = _mm_packus_epi16(_mm_packs_epi32(rgbz, rgbz), _mm_setzero_si128());
       const uint32_t word = uint32_t(_mm_cvtsi128_si32(bytes)) | 0xff000000u;  // alpha 255
       std::memcpy(px, &word, 4);  // little-endian: r, g, b, alpha
     }
@@ -239,9 +239,6 @@ struct BytePixels {
       if (!Owned(px)) Draw(px, r, g, b);
 #endif
   }
-#if defined(__SSE2__)
-  static __m128i zero_i() { return _mm_setzero_si128(); }
-#endif
 };
 
 // Domain-edge coverage: see RenderFineMesh in sdvi/render.h.
