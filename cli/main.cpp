@@ -1,7 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // sdvi: the command-line tool. CLI11 parses the subcommand and its options; the
 // subcommand's callback does the work and sets the exit code (args.h).
+#include <unistd.h>
+
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <iostream>
 #include <string>
 
@@ -29,9 +33,36 @@ void RegisterHelp(CLI::App& app, sdvi::cli::Outcome& outcome) {
   });
 }
 
+// The fitting commands' large per-pixel arrays on transparent huge pages (spec/METHOD.md 6,
+// "Memory pages"). Where the kernel backs memory with huge pages only on request (THP mode
+// "madvise"), glibc's malloc makes that request when GLIBC_TUNABLES holds
+// glibc.malloc.hugetlb=1, a setting it reads at start-up only: `vectorize` and `import-svg`
+// run themselves again once with it added. A GLIBC_TUNABLES that already names
+// glibc.malloc.hugetlb (either value) is the user's choice and is kept; when the exec fails
+// the command runs as it is.
+void RunAgainWithHugePages(char** argv) {
+  const std::string command = argv[1];
+  if (command != "vectorize" && command != "import-svg") return;
+  const char* tunables = std::getenv("GLIBC_TUNABLES");
+  const std::string given = tunables != nullptr ? tunables : "";
+  if (given.find("glibc.malloc.hugetlb") != std::string::npos) return;
+  std::ifstream mode_file("/sys/kernel/mm/transparent_hugepage/enabled");
+  std::string mode;
+  if (!std::getline(mode_file, mode) || mode.find("[madvise]") == std::string::npos) return;
+  const std::string wanted = (given.empty() ? "" : given + ":") + "glibc.malloc.hugetlb=1";
+  if (::setenv("GLIBC_TUNABLES", wanted.c_str(), 1) != 0) return;
+  ::execv("/proc/self/exe", argv);
+  if (tunables != nullptr) {
+    ::setenv("GLIBC_TUNABLES", given.c_str(), 1);
+  } else {
+    ::unsetenv("GLIBC_TUNABLES");
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc >= 2) RunAgainWithHugePages(argv);
   CLI::App app("sdvi: images as curvilinear-feature-driven subdivision surfaces.\n"
                "Vectorize rasters into resolution-free .sdvi files, render them at any size, "
                "export them to glTF, compress them.",
