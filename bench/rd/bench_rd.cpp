@@ -382,11 +382,11 @@ sdvi::StatusOr<std::vector<SdviPoint>> RunSdvi(const sdvi::Raster& raster, const
     SdviPoint p;
     p.ppv = ppv;
     p.vertices = uint32_t(result.image.vertices.size());
-    p.fit_psnr = result.report.psnr;
+    p.fit_psnr = result.report.fit_psnr;
     const auto t0 = Clock::now();
     if (variant == "v1") {
       sdvi::CompressOptions compress;
-      compress.reference_mse = 255.0 * 255.0 / std::pow(10.0, result.report.psnr / 10.0);
+      compress.reference_mse = 255.0 * 255.0 / std::pow(10.0, result.report.fit_psnr / 10.0);
       compress.container_params = true;  // as v1 wrote them
       SDVI_ASSIGN_OR_RETURN(p.file, sdvi::EncodeImage(result.image, &compress));
     } else {

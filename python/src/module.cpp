@@ -197,7 +197,7 @@ py::tuple VectorizePy(const Source& source, std::optional<std::string> output,
       StatusOr<TargetResult> t = VectorizeForTarget(raster, mask_ptr, options, target, rate);
       if (!t.ok()) named(t.status());
       result = std::move(t->vectorized);
-      fit_psnr = result.report.psnr;
+      fit_psnr = result.report.fit_psnr;
       if (output) Check(WriteFileAtomic(*output, t->file.file));
       result.report.psnr = t->file.psnr;
       result.image = std::move(t->file.decoded);
@@ -205,7 +205,7 @@ py::tuple VectorizePy(const Source& source, std::optional<std::string> output,
       StatusOr<VectorizeResult> done = Vectorize(raster, mask_ptr, options);
       if (!done.ok()) named(done.status());
       result = std::move(done).value();
-      fit_psnr = result.report.psnr;
+      fit_psnr = result.report.fit_psnr;
       if (compress) {
         // As `sdvi vectorize --compress`: quantisation chosen by rate-distortion, colours
         // refitted on the quantised positions; the image returned is what a reader gets.

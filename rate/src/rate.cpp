@@ -80,7 +80,7 @@ StatusOr<double> FileQualityPsnr(const Image& decoded, const Raster& source, int
 StatusOr<RateResult> CompressForRate(const VectorizeResult& vectorized, const Raster& source, const Raster* mask,
                                      const ColorFitOptions& fit, const RateOptions& options) {
   const Image& image = vectorized.image;
-  const double fit_mse = 255.0 * 255.0 / std::pow(10.0, vectorized.report.psnr / 10.0);
+  const double fit_mse = 255.0 * 255.0 / std::pow(10.0, vectorized.report.fit_psnr / 10.0);
   RateResult result;
   result.slope_db = options.slope_db > 0 ? options.slope_db : SlopeFromHistory(vectorized.report);
   ColorFitOptions refit = fit;
@@ -242,7 +242,7 @@ StatusOr<TargetResult> VectorizeForTarget(const Raster& source, const Raster* ma
   for (int attempt = 0; attempt < 3; ++attempt) {
     SDVI_RETURN_IF_ERROR(run(options.compression_ratio, aim, target.psnr));
     if (out.file.psnr >= target.psnr) return out;
-    if (out.vectorized.report.psnr < aim) break;  // the vectorizer itself fell short: budget spent
+    if (out.vectorized.report.fit_psnr < aim) break;  // the vectorizer itself fell short: budget spent
     aim += target.psnr - out.file.psnr + 0.05;
   }
   out.reached = false;

@@ -64,7 +64,7 @@ sdvi::Raster CrossImage() {
 
 // PSNR (8-bit, R, G, B) of a reconstruction against the image over the square of pixels
 // within `half` of (cx, cy).
-double PsnrAround(const sdvi::Raster& a, const sdvi::Raster& b, int cx, int cy, int half) {
+double PsnrAround(const sdvi::Raster8& a, const sdvi::Raster& b, int cx, int cy, int half) {
   double sum = 0;
   int n = 0;
   for (int y = cy - half; y <= cy + half; ++y) {

@@ -47,9 +47,26 @@ TEST_CASE("vectorize reaches a PSNR bound on the built-in sample image", "[vecto
   CHECK(r.feature_curves > 0);  // the disc, the triangle and the soft edge
   // The budget: about pixels / ratio vertices (the features may add a little).
   CHECK(r.vertices <= 1.25 * 128 * 96 / 16.0);
-  // The report's reconstruction is what Render draws.
+  // The report's reconstruction is what Render8 draws at the fit's level, and its metrics are
+  // CompareImages' of those bytes (what `sdvi render --levels r` + `sdvi compare` print).
   REQUIRE(result->reconstruction.width == 128);
   REQUIRE(result->reconstruction.height == 96);
+  CHECK(r.levels == 2);
+  sdvi::RenderOptions render;
+  render.viewport = sdvi::Viewport::Identity(128, 96);
+  render.levels = r.levels;
+  auto drawn = sdvi::Render8(result->image, render);
+  REQUIRE(drawn.ok());
+  CHECK(drawn->data == result->reconstruction.data);
+  auto metrics = sdvi::CompareImages(*drawn, sample);
+  REQUIRE(metrics.ok());
+  CHECK(r.psnr == metrics->psnr);
+  CHECK(r.mssim == metrics->mssim);
+  CHECK(r.mean_error == metrics->mean_error);
+  // fit_psnr is the last fit's own (before rounding to 8 bits).
+  REQUIRE(!r.history.empty());
+  CHECK(r.fit_psnr == r.history.back().psnr);
+  CHECK(r.fit_psnr != r.psnr);
 }
 
 TEST_CASE("vectorize of a smooth image is accurate with few vertices", "[vectorize]") {

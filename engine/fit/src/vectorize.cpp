@@ -383,8 +383,8 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
     }
   }
 
-  // Final metrics: Render at the fitted level r + CompareImages, as
-  // `sdvi render --levels r` + `sdvi compare` would measure them.
+  // Final metrics: Render8 at the fitted level r + CompareImages, as
+  // `sdvi render --levels r` + `sdvi compare` measure them (8-bit, spec/RATE.md 1).
   phase("metrics");
   start = Clock::now();
   fit = ColorFit();  // the fit's arrays are not needed by the metrics
@@ -393,7 +393,7 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
   render_options.viewport = Viewport::Identity(width, height);
   render_options.levels = std::max(2, options.fit.surface.levels);  // the fitted level r
   render_options.threads = options.threads;
-  SDVI_ASSIGN_OR_RETURN(result.reconstruction, Render(mesh, render_options));
+  SDVI_ASSIGN_OR_RETURN(result.reconstruction, Render8(mesh, render_options));
   Raster reference_with_domain;
   const Raster* reference = &raster;
   if (mask != nullptr) {
@@ -416,6 +416,8 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
   report.paper_size = uint64_t(report.vertices) * 20 + uint64_t(report.triangles) * 6 + 8;
   report.compression_ratio = double(domain_pixels) / std::max<double>(1, report.vertices);
   report.psnr = metrics.psnr;
+  report.fit_psnr = psnr;
+  report.levels = render_options.levels;
   report.mssim = metrics.mssim;
   report.mean_error = metrics.mean_error;
   report.feature_curves = uint32_t(curves.size());
@@ -478,7 +480,7 @@ StatusOr<VectorizeResult> VectorizeWithFeatures(const Raster& raster, const Rast
   return VectorizeGuarded(raster, mask, &features, options);
 }
 
-Raster ErrorImage(const Raster& reconstruction, const Raster& reference) {
+Raster ErrorImage(const Raster8& reconstruction, const Raster& reference) {
   const int width = reference.width, height = reference.height;
   Raster out(width, height, 3);
   for (int y = 0; y < height; ++y) {
@@ -486,14 +488,14 @@ Raster ErrorImage(const Raster& reconstruction, const Raster& reference) {
       const bool in_reference = !reference.has_alpha() || reference.at(x, y, reference.channels - 1) > 0.5f;
       const bool in_reconstruction =
           x < reconstruction.width && y < reconstruction.height &&
-          (!reconstruction.has_alpha() || reconstruction.at(x, y, reconstruction.channels - 1) > 0.5f);
+          (!reconstruction.has_alpha() || reconstruction.at(x, y, reconstruction.channels - 1) >= 128);
       float value = 128.f;
       if (in_reference && in_reconstruction) {
         float sum = 0;
         for (int c = 0; c < 3; ++c) {
           const float ref = reference.channels <= 2 ? reference.at(x, y, 0) : reference.at(x, y, c);
           const float rec = reconstruction.channels <= 2 ? reconstruction.at(x, y, 0)
-                                                         : reconstruction.at(x, y, c);
+                                                         : reconstruction.at(x, y, c);  // 0..255
           sum += std::abs(rec - ref);
         }
         value = std::min(255.f, 4.f * sum);

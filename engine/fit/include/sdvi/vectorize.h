@@ -132,8 +132,12 @@ struct VectorizeReport {
   uint64_t paper_size = 0;         // 20 V + 6 T + 8 bytes
   uint64_t pixels = 0;             // domain pixels
   double compression_ratio = 0;    // pixels / vertices
-  double psnr = 0, mssim = 0, mean_error = 0;  // of Render() at the fit level r vs the input
-                                               // (CompareImages)
+  double psnr = 0, mssim = 0, mean_error = 0;  // of Render8() at the fit level r vs the input
+                                               // (CompareImages): what `sdvi render --levels r`
+                                               // writes to a PNG, as `sdvi compare` measures it
+  int levels = 0;                  // the subdivision level r of those metrics' render
+  double fit_psnr = 0;             // of the last colour fit's reconstruction, before rounding
+                                   // to 8 bits (its own error sum; history.back().psnr)
   uint32_t feature_curves = 0;     // curves used (after the budget filter)
   VectorizeTimings seconds;
   std::vector<VectorizeIteration> history;
@@ -143,8 +147,8 @@ struct VectorizeResult {
   Image image;                        // the fitted sdvi image
   VectorizeReport report;
   std::vector<FeatureCurve> features; // the curves used
-  Raster reconstruction;              // Render() of image at the identity viewport, level r
-                                      // of the fit (RGBA)
+  Raster8 reconstruction;             // Render8() of image at the identity viewport, level r
+                                      // of the fit (RGBA): what the report's metrics measured
 };
 
 // Vectorizes raster (grey / RGB, with alpha or a mask for object images: see FitColors for
@@ -166,7 +170,7 @@ StatusOr<VectorizeResult> VectorizeWithFeatures(const Raster& raster, const Rast
 
 // A per-pixel error picture for people (paper Fig. 10): |difference| summed over R, G, B,
 // amplified 4x, drawn black (exact) to white; pixels outside the domain are mid grey.
-Raster ErrorImage(const Raster& reconstruction, const Raster& reference);
+Raster ErrorImage(const Raster8& reconstruction, const Raster& reference);
 
 // ---- Building blocks of the refinement (spec/METHOD.md section 6 steps 4 and 6), used by Vectorize ----
 
