@@ -133,18 +133,26 @@ Status VectorizeCommand(VectorizeArgs& args) {
   RateOptions rate;
   rate.threads = options.threads;
   // The file and its one PSNR (spec/RATE.md 1): the x1 render of what a reader decodes.
+  // The report's PSNR, MSSIM and mean error are the file's, measured here once: the
+  // vectorizer's own final render is made only for --debug-dir.
+  options.final_metrics = !args.debug_dir.empty();
   VectorizeResult result;
   std::vector<uint8_t> bytes;
+  Image decoded;  // what a reader of bytes gets
+  ImageMetrics file_metrics;  // of decoded: FileQuality
   double file_psnr = 0;
   bool reached = true;
   std::string note;
   nlohmann::json rate_report;
   auto named = [&](const Status& s) { return s.ok() ? s : Status(s.code(), input + ": " + s.message()); };
-  // The fit's render is needed only by --debug-dir: dropped as soon as the fit returns,
-  // before the file is measured.
-  auto take = [&](VectorizeResult&& v) {
-    result = std::move(v);
-    if (args.debug_dir.empty()) result.reconstruction = Raster8();
+  // The file's metrics, their time counted in the report's metrics phase.
+  auto measure_file = [&]() -> Status {
+    const Clock::time_point start = Clock::now();
+    SDVI_ASSIGN_OR_RETURN(file_metrics, FileQuality(decoded, raster, options.threads));
+    const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    result.report.seconds.metrics += seconds;
+    result.report.seconds.total += seconds;
+    return Status::Ok();
   };
   if (compress) {
     RateResult compressed;
@@ -152,7 +160,7 @@ Status VectorizeCommand(VectorizeArgs& args) {
       if (options.target_psnr > 0) target.psnr = options.target_psnr;
       StatusOr<TargetResult> t = VectorizeForTarget(raster, mask_ptr, options, target, rate);
       if (!t.ok()) return named(t.status());
-      take(std::move(t->vectorized));
+      result = std::move(t->vectorized);
       compressed = std::move(t->file);
       reached = t->reached;
       note = t->note;
@@ -160,13 +168,15 @@ Status VectorizeCommand(VectorizeArgs& args) {
     } else {
       StatusOr<VectorizeResult> v = sdvi::Vectorize(raster, mask_ptr, options);
       if (!v.ok()) return named(v.status());
-      take(std::move(*v));
+      result = std::move(*v);
       StatusOr<RateResult> c = CompressForRate(result, raster, mask_ptr, options.fit, rate);
       if (!c.ok()) return named(c.status());
       compressed = std::move(*c);
     }
     bytes = std::move(compressed.file);
+    decoded = std::move(compressed.decoded);
     file_psnr = compressed.psnr;
+    SDVI_RETURN_IF_ERROR(measure_file());
     rate_report["position_bits"] = compressed.position_bits;
     rate_report["color_bits"] = compressed.color_bits;
     rate_report["colors_refitted"] = compressed.colors_refitted;
@@ -177,19 +187,11 @@ Status VectorizeCommand(VectorizeArgs& args) {
   } else {
     StatusOr<VectorizeResult> v = sdvi::Vectorize(raster, mask_ptr, options);
     if (!v.ok()) return named(v.status());
-    take(std::move(*v));
+    result = std::move(*v);
     SDVI_ASSIGN_OR_RETURN(bytes, EncodeImage(result.image, nullptr, output));
-    SDVI_ASSIGN_OR_RETURN(Image decoded, DecodeImage(bytes, output));
-    // A file that holds the fit exactly and renders at x1 at the level the report's metrics
-    // used has their PSNR (the same Render8 bytes, the same sums; without a mask the same
-    // reference): measured once.
-    RenderOptions x1;
-    x1.viewport = Viewport::Identity(int(decoded.width), int(decoded.height));
-    if (!has_mask && decoded == result.image && ChooseRenderLevels(decoded, x1) == result.report.levels) {
-      file_psnr = result.report.psnr;
-    } else {
-      SDVI_ASSIGN_OR_RETURN(file_psnr, FileQualityPsnr(decoded, raster, options.threads));
-    }
+    SDVI_ASSIGN_OR_RETURN(decoded, DecodeImage(bytes, output));
+    SDVI_RETURN_IF_ERROR(measure_file());
+    file_psnr = file_metrics.psnr;
     if (options.target_psnr > 0 && file_psnr < options.target_psnr) {
       reached = false;
       char buf[160];
@@ -202,6 +204,8 @@ Status VectorizeCommand(VectorizeArgs& args) {
   result.report.seconds.load = load_seconds;
   const double fit_psnr = result.report.fit_psnr;
   result.report.psnr = file_psnr;
+  result.report.mssim = file_metrics.mssim;
+  result.report.mean_error = file_metrics.mean_error;
   if (!reached) {
     if (args.strict) return Status(StatusCode::kLimitExceeded, input + ": " + note + "; nothing written");
     std::fprintf(stderr, "sdvi vectorize: warning: %s: %s\n", input.c_str(), note.c_str());

@@ -18,12 +18,17 @@ constexpr double kMinSlope = 1.0, kMaxSlope = 12.0, kFallbackSlope = 4.0;
 constexpr double kMinGrowth = 1.05;  // a round counts for the slope when it adds >= 5% vertices
 constexpr int kMinBits = 4;
 
-StatusOr<double> Psnr(const Image& decoded, const Raster& reference, int threads) {
+// The x1 render of a decoded file in 8 bits, what its PNG holds (spec/RATE.md 1 steps 2-3).
+StatusOr<Raster8> RenderX1(const Image& decoded, int threads) {
   RenderOptions options;
   options.viewport = Viewport::Identity(int(decoded.width), int(decoded.height));
   options.threads = threads;
-  // The 8-bit render is what its PNG holds; the PSNR needs no MSSIM.
-  SDVI_ASSIGN_OR_RETURN(Raster8 render, Render8(decoded, options));
+  return Render8(decoded, options);
+}
+
+StatusOr<double> Psnr(const Image& decoded, const Raster& reference, int threads) {
+  SDVI_ASSIGN_OR_RETURN(Raster8 render, RenderX1(decoded, threads));
+  // The PSNR needs no MSSIM.
   SDVI_ASSIGN_OR_RETURN(ImageMetrics metrics, ComparePixelErrors(render, reference));
   return metrics.psnr;
 }
@@ -75,6 +80,11 @@ double SlopeFromHistory(const VectorizeReport& report) {
 
 StatusOr<double> FileQualityPsnr(const Image& decoded, const Raster& source, int threads) {
   return Psnr(decoded, source, threads);
+}
+
+StatusOr<ImageMetrics> FileQuality(const Image& decoded, const Raster& source, int threads) {
+  SDVI_ASSIGN_OR_RETURN(Raster8 render, RenderX1(decoded, threads));
+  return CompareImages(render, source, threads);
 }
 
 StatusOr<RateResult> CompressForRate(const VectorizeResult& vectorized, const Raster& source, const Raster* mask,

@@ -1,8 +1,9 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 # CLI test of the one-PSNR rule (spec/RATE.md 1) and `sdvi info`'s bytes by part, run by ctest as
 #   cmake -DSDVI=<sdvi> -DWORK=<scratch dir> -P cli_rate_test.cmake
-# vectorize --compress reports a PSNR; compare of the .sdvi and compare of its x1 PNG render
-# must print the same number.
+# vectorize (with and without --compress) reports a PSNR; compare of the .sdvi and compare of
+# its x1 PNG render must print the same number, and the report's MSSIM and mean error are
+# compare's too.
 cmake_minimum_required(VERSION 3.25)
 file(REMOVE_RECURSE ${WORK})
 file(MAKE_DIRECTORY ${WORK})
@@ -21,6 +22,13 @@ foreach(mode compress raw)
   string(JSON reported GET "${report}" psnr_db)
   run_sdvi(0 compare ${WORK}/${mode}.sdvi ${WORK}/s.png --json)
   string(JSON from_sdvi GET "${last_out}" psnr)
+  foreach(field mssim mean_error)
+    string(JSON in_report GET "${report}" ${field})
+    string(JSON in_compare GET "${last_out}" ${field})
+    if(NOT in_report STREQUAL in_compare)
+      message(FATAL_ERROR "${mode}: ${field} ${in_report} in the report, ${in_compare} from compare of the .sdvi")
+    endif()
+  endforeach()
   run_sdvi(0 render ${WORK}/${mode}.sdvi -o ${WORK}/${mode}.png --quiet)
   run_sdvi(0 compare ${WORK}/${mode}.png ${WORK}/s.png --json)
   string(JSON from_png GET "${last_out}" psnr)

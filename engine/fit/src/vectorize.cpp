@@ -383,43 +383,45 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
     }
   }
 
-  // Final metrics: Render8 at the fitted level r + CompareImages, as
-  // `sdvi render --levels r` + `sdvi compare` measure them (8-bit, spec/RATE.md 1).
-  phase("metrics");
-  start = Clock::now();
+  // Final metrics (unless the caller measures its file): Render8 at the fitted level r +
+  // CompareImages, as `sdvi render --levels r` + `sdvi compare` measure them (spec/RATE.md 1).
   fit = ColorFit();  // the fit's arrays are not needed by the metrics
   fit_buffers = ColorFitBuffers();
-  RenderOptions render_options;
-  render_options.viewport = Viewport::Identity(width, height);
-  render_options.levels = std::max(2, options.fit.surface.levels);  // the fitted level r
-  render_options.threads = options.threads;
-  SDVI_ASSIGN_OR_RETURN(result.reconstruction, Render8(mesh, render_options));
-  Raster reference_with_domain;
-  const Raster* reference = &raster;
-  if (mask != nullptr) {
-    reference_with_domain = Raster(width, height, 4);
-    for (int y = 0; y < height; ++y) {
-      for (int x = 0; x < width; ++x) {
-        for (int c = 0; c < 3; ++c) {
-          reference_with_domain.at(x, y, c) = raster.channels <= 2 ? raster.at(x, y, 0) : raster.at(x, y, c);
+  report.fit_psnr = psnr;
+  if (options.final_metrics) {
+    phase("metrics");
+    start = Clock::now();
+    RenderOptions render_options;
+    render_options.viewport = Viewport::Identity(width, height);
+    render_options.levels = std::max(2, options.fit.surface.levels);  // the fitted level r
+    render_options.threads = options.threads;
+    SDVI_ASSIGN_OR_RETURN(result.reconstruction, Render8(mesh, render_options));
+    Raster reference_with_domain;
+    const Raster* reference = &raster;
+    if (mask != nullptr) {
+      reference_with_domain = Raster(width, height, 4);
+      for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+          for (int c = 0; c < 3; ++c) {
+            reference_with_domain.at(x, y, c) = raster.channels <= 2 ? raster.at(x, y, 0) : raster.at(x, y, c);
+          }
+          reference_with_domain.at(x, y, 3) = InDomain(raster, mask, x, y) ? 1.f : 0.f;
         }
-        reference_with_domain.at(x, y, 3) = InDomain(raster, mask, x, y) ? 1.f : 0.f;
       }
+      reference = &reference_with_domain;
     }
-    reference = &reference_with_domain;
+    SDVI_ASSIGN_OR_RETURN(ImageMetrics metrics, CompareImages(result.reconstruction, *reference, options.threads));
+    seconds.metrics += SecondsSince(start);
+    report.psnr = metrics.psnr;
+    report.mssim = metrics.mssim;
+    report.mean_error = metrics.mean_error;
+    report.levels = render_options.levels;
   }
-  SDVI_ASSIGN_OR_RETURN(ImageMetrics metrics, CompareImages(result.reconstruction, *reference, options.threads));
-  seconds.metrics += SecondsSince(start);
 
   report.vertices = uint32_t(mesh.vertices.size());
   report.triangles = uint32_t(mesh.triangles.size());
   report.paper_size = uint64_t(report.vertices) * 20 + uint64_t(report.triangles) * 6 + 8;
   report.compression_ratio = double(domain_pixels) / std::max<double>(1, report.vertices);
-  report.psnr = metrics.psnr;
-  report.fit_psnr = psnr;
-  report.levels = render_options.levels;
-  report.mssim = metrics.mssim;
-  report.mean_error = metrics.mean_error;
   report.feature_curves = uint32_t(curves.size());
   result.image = std::move(mesh);
   result.features = std::move(curves);

@@ -34,6 +34,7 @@
 #include "sdvi/codec.h"
 #include "sdvi/image.h"
 #include "sdvi/raster.h"
+#include "sdvi/render.h"
 #include "sdvi/status.h"
 #include "sdvi/vectorize.h"
 
@@ -76,6 +77,10 @@ double SlopeFromHistory(const VectorizeReport& report);
 // The PSNR of the header comment for an image (as decoded) against its source: exactly what
 // `sdvi compare` prints for the file or for its x1 PNG render.
 StatusOr<double> FileQualityPsnr(const Image& decoded, const Raster& source, int threads);
+
+// FileQualityPsnr with the MSSIM and mean error of the same render (CompareImages): the
+// figures `sdvi compare` prints for the file; psnr is FileQualityPsnr's, bit for bit.
+StatusOr<ImageMetrics> FileQuality(const Image& decoded, const Raster& source, int threads);
 
 // The smallest file worth its bytes for a vectorized image (header comment). source and mask
 // are what Vectorize was given, fit its colour-fit options.

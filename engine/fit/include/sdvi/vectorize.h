@@ -96,6 +96,10 @@ struct VectorizeOptions {
   ColorFitOptions fit;             // its `threads` is replaced by `threads` below
   int threads = 1;                 // worker threads (colour fit assembly, final render)
   Progress* progress = nullptr;    // optional terminal progress (not owned)
+  // false: no final render and CompareImages (the report's psnr, mssim and mean_error stay 0,
+  // levels 0, reconstruction empty), for a caller that measures the file it writes instead
+  // (`sdvi vectorize`, spec/RATE.md 1).
+  bool final_metrics = true;
 };
 
 // Seconds per phase, summed over iterations.
