@@ -178,6 +178,7 @@ py::tuple VectorizePy(const Source& source, std::optional<std::string> output,
   options.iterations = iterations;
   options.threads = threads > 0 ? threads : DefaultThreads();
   options.fit.threads = options.threads;
+  options.final_metrics = false;  // the file is measured below, as by the command
   compress = compress || quality >= 0 || target_bytes > 0;  // targets imply compress, as in the CLI
   const std::string name =
       std::holds_alternative<std::string>(source) ? std::get<std::string>(source) : std::string("array");
@@ -199,7 +200,6 @@ py::tuple VectorizePy(const Source& source, std::optional<std::string> output,
       result = std::move(t->vectorized);
       fit_psnr = result.report.fit_psnr;
       if (output) Check(WriteFileAtomic(*output, t->file.file));
-      result.report.psnr = t->file.psnr;
       result.image = std::move(t->file.decoded);
     } else {
       StatusOr<VectorizeResult> done = Vectorize(raster, mask_ptr, options);
@@ -211,13 +211,19 @@ py::tuple VectorizePy(const Source& source, std::optional<std::string> output,
         // refitted on the quantised positions; the image returned is what a reader gets.
         RateResult compressed = Take(CompressForRate(result, raster, mask_ptr, options.fit, rate));
         if (output) Check(WriteFileAtomic(*output, compressed.file));
-        result.report.psnr = compressed.psnr;
         result.image = std::move(compressed.decoded);
       } else {
-        if (output) Check(WriteImage(*output, result.image, nullptr));
-        result.report.psnr = Take(FileQualityPsnr(result.image, raster, options.threads));
+        // As `sdvi vectorize`: the file's image is what a reader gets (canonical form).
+        const std::vector<uint8_t> bytes = Take(EncodeImage(result.image, nullptr, name));
+        result.image = Take(DecodeImage(bytes, name));
+        if (output) Check(WriteFileAtomic(*output, bytes));
       }
     }
+    // The report's PSNR, MSSIM and mean error: the file's (spec/RATE.md 1).
+    const ImageMetrics file = Take(FileQuality(result.image, raster, options.threads));
+    result.report.psnr = file.psnr;
+    result.report.mssim = file.mssim;
+    result.report.mean_error = file.mean_error;
   }
   return py::make_tuple(std::move(result.image), ReportDict(result.report, fit_psnr));
 }

@@ -104,6 +104,13 @@ def main():
               np.array_equal(image_file.triangles, image_array.triangles),
               "vectorizing an 8-bit array equals vectorizing its PNG")
         check(report["triangles"] == image_array.triangle_count, "report matches the image")
+        # The report's metrics are the file's, as `sdvi compare FILE.sdvi SOURCE` prints them.
+        _, report = sdvi.vectorize(str(inputs / "a.png"), str(tmp / "a_py.sdvi"))
+        printed = json.loads(subprocess.run([cli, "compare", str(tmp / "a_py.sdvi"), str(inputs / "a.png"), "--json"],
+                                            check=True, capture_output=True, text=True).stdout)
+        check((report["psnr_db"], report["mssim"], report["mean_error"]) ==
+              (printed["psnr"], printed["mssim"], printed["mean_error"]),
+              f"report {report} against compare {printed}")
         try:
             sdvi.vectorize(np.zeros((4, 4, 7), np.uint8))
             check(False, "a 7-channel array is refused")
