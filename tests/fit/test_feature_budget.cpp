@@ -226,3 +226,36 @@ TEST_CASE("given features on top of the budget: exact features do not take the i
   REQUIRE_FALSE(bad.ok());
   CHECK(bad.status().code() == sdvi::StatusCode::kInvalidArgument);
 }
+
+TEST_CASE("feature budget: the same choice on 1, 2 and 3 threads", "[feature_budget]") {
+  // Enough features for several chunks of coarser fits, a budget that coarsens and drops.
+  std::vector<sdvi::FeatureCurve> curves;
+  for (int k = 0; k < 70; ++k) {
+    curves.push_back(Circle(60 + 37 * (k % 10), 60 + 41 * (k / 10), 8 + 3 * (k % 7), float(20 + k)));
+    if (k % 4 == 0) curves.push_back(Line(10, 5 + 6 * k, 300 + k, 40, float(30 + k)));
+  }
+  sdvi::FeatureBudgetOptions options;
+  options.vertex_budget = 900;
+  options.interior_spacing = 10;
+  sdvi::FeatureBudgetStats one_stats;
+  const std::vector<sdvi::FeatureCurve> one = sdvi::FitFeaturesToBudget(curves, options, &one_stats);
+  REQUIRE(one_stats.coarsened > 0);
+  REQUIRE(one_stats.dropped > 0);
+  for (int threads : {2, 3}) {
+    options.threads = threads;
+    sdvi::FeatureBudgetStats stats;
+    const std::vector<sdvi::FeatureCurve> more = sdvi::FitFeaturesToBudget(curves, options, &stats);
+    REQUIRE(stats.vertices_kept == one_stats.vertices_kept);
+    REQUIRE(stats.coarsened == one_stats.coarsened);
+    REQUIRE(stats.dropped == one_stats.dropped);
+    REQUIRE(more.size() == one.size());
+    for (size_t i = 0; i < one.size(); ++i) {
+      REQUIRE(more[i].points.size() == one[i].points.size());
+      for (size_t k = 0; k < one[i].points.size(); ++k) {
+        REQUIRE(more[i].points[k].x == one[i].points[k].x);
+        REQUIRE(more[i].points[k].y == one[i].points[k].y);
+      }
+      REQUIRE(more[i].corners == one[i].corners);
+    }
+  }
+}

@@ -214,3 +214,71 @@ TEST_CASE("detection is deterministic", "[features]") {
     REQUIRE((*a)[i].sharpness == (*b)[i].sharpness);
   }
 }
+
+namespace {
+
+// Many edges over several bands of rows (the per-pixel passes work in bands of 64 rows):
+// discs, rings and lines of random colours, a seeded generator.
+cv::Mat ManyEdges(int width, int height, int channels) {
+  cv::Mat img(height, width, CV_8UC(channels), cv::Scalar::all(90));
+  cv::RNG rng(12345);
+  for (int k = 0; k < 60; ++k) {
+    const cv::Point c(rng.uniform(0, width), rng.uniform(0, height));
+    const cv::Scalar colour(rng.uniform(0, 256), rng.uniform(0, 256), rng.uniform(0, 256), 255);
+    if (k % 3 == 0)
+      cv::circle(img, c, rng.uniform(5, 60), colour, -1, cv::LINE_AA);
+    else if (k % 3 == 1)
+      cv::circle(img, c, rng.uniform(10, 80), colour, rng.uniform(1, 6), cv::LINE_AA);
+    else
+      cv::line(img, c, {rng.uniform(0, width), rng.uniform(0, height)}, colour, rng.uniform(1, 5), cv::LINE_AA);
+  }
+  if (channels == 4) {
+    // Object mode: a transparent margin and a hole.
+    cv::Mat alpha(height, width, CV_8UC1, cv::Scalar(0));
+    cv::rectangle(alpha, {10, 12}, {width - 11, height - 9}, cv::Scalar(255), -1);
+    cv::circle(alpha, {width / 3, height / 2}, 25, cv::Scalar(0), -1);
+    cv::Mat planes[4];
+    cv::split(img, planes);
+    planes[3] = alpha;
+    cv::merge(planes, 4, img);
+  }
+  return img;
+}
+
+void RequireSameCurves(const std::vector<FeatureCurve>& a, const std::vector<FeatureCurve>& b) {
+  REQUIRE(a.size() == b.size());
+  for (size_t i = 0; i < a.size(); ++i) {
+    REQUIRE(a[i].points.size() == b[i].points.size());
+    for (size_t k = 0; k < a[i].points.size(); ++k) {
+      REQUIRE(a[i].points[k].x == b[i].points[k].x);
+      REQUIRE(a[i].points[k].y == b[i].points[k].y);
+    }
+    REQUIRE(a[i].closed == b[i].closed);
+    REQUIRE(a[i].corners == b[i].corners);
+    REQUIRE(a[i].sharpness == b[i].sharpness);
+    REQUIRE(a[i].contrast == b[i].contrast);
+    REQUIRE(a[i].boundary == b[i].boundary);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("detection gives the same curves on 1, 2 and 3 threads", "[features]") {
+  for (int channels : {1, 3, 4}) {
+    for (double sigma : {0.8, 0.0, 2.5}) {
+      CAPTURE(channels, sigma);
+      const sdvi::Raster image = ToRaster(ManyEdges(331, 277, channels));
+      sdvi::FeatureOptions o;
+      o.smoothing_sigma = sigma;
+      auto one = sdvi::DetectFeatures(image, nullptr, o);
+      REQUIRE(one.ok());
+      REQUIRE(one->size() > 20);
+      for (int threads : {2, 3}) {
+        o.threads = threads;
+        auto more = sdvi::DetectFeatures(image, nullptr, o);
+        REQUIRE(more.ok());
+        RequireSameCurves(*one, *more);
+      }
+    }
+  }
+}

@@ -9,33 +9,73 @@
 #include <tuple>
 #include <vector>
 
+#include "parallel.h"
 #include "sdvi/bspline.h"
 
 namespace sdvi {
 namespace {
 
-double PointSegmentDistance(Point2 p, Point2 a, Point2 b) {
-  const double vx = b.x - a.x, vy = b.y - a.y, l2 = vx * vx + vy * vy;
-  const double t = l2 > 0 ? std::clamp(((p.x - a.x) * vx + (p.y - a.y) * vy) / l2, 0.0, 1.0) : 0.0;
-  return std::hypot(p.x - (a.x + t * vx), p.y - (a.y + t * vy));
-}
+// One segment of a polyline: its start and direction, and its bounding box.
+struct Segment {
+  Point2 a;
+  double vx, vy, l2;
+  double x0, x1, y0, y1;
+};
 
 // Mean distance from the points of `a` to the polyline `b`, both samples of one curve in
 // the same direction: point j is compared with the segments of b around the same share of
 // the curve (a window of 64 segments each side), so the cost is linear in the samples.
+// A point's distance is the least of hypot(offset to the segment's nearest point) over the
+// window's segments, in any order (the one at the centre first): a segment is skipped when
+// its bounding box is farther than the least so far plus a margin, or its offset's square
+// is more than (1 + 1e-9) times that least's square: far beyond the rounding of the
+// coordinates (the margin, 1e-9 of their magnitude), of the squares and of hypot, so the
+// skipped ones would not have been less (the same doubles with few hypot calls).
 double MeanDistance(const std::vector<Point2>& a, const std::vector<Point2>& b, bool closed) {
   if (a.empty() || b.size() < 2) return 0;
   const int64_t segments = closed ? int64_t(b.size()) : int64_t(b.size()) - 1;
   constexpr int64_t kWindow = 64;
+  double extent = 0;
+  for (const std::vector<Point2>* points : {&a, &b})
+    for (const Point2& p : *points) extent = std::max({extent, std::fabs(p.x), std::fabs(p.y)});
+  const double margin = 1e-9 * (1 + extent);
+  std::vector<Segment> segs(static_cast<size_t>(segments));
+  for (size_t i = 0; i < segs.size(); ++i) {
+    const Point2 s = b[i], e = b[(i + 1) % b.size()];
+    const double vx = e.x - s.x, vy = e.y - s.y;
+    segs[i] = {s, vx, vy, vx * vx + vy * vy, std::min(s.x, e.x), std::max(s.x, e.x), std::min(s.y, e.y),
+               std::max(s.y, e.y)};
+  }
   double sum = 0;
   for (size_t j = 0; j < a.size(); ++j) {
-    const auto centre = int64_t(double(j) / double(a.size()) * double(segments));
-    double best = INFINITY;
-    for (int64_t k = centre - kWindow; k <= centre + kWindow; ++k) {
-      int64_t i = k;
-      if (closed) i = ((k % segments) + segments) % segments;
-      else if (k < 0 || k >= segments) continue;
-      best = std::min(best, PointSegmentDistance(a[j], b[size_t(i)], b[size_t(i + 1) % b.size()]));
+    const Point2 p = a[j];
+    const auto centre = std::min(segments - 1, int64_t(double(j) / double(a.size()) * double(segments)));
+    double best = INFINITY, above2 = INFINITY, box2 = INFINITY;
+    auto visit = [&](const Segment& s) {
+      const double gx = std::max({s.x0 - p.x, p.x - s.x1, 0.0}), gy = std::max({s.y0 - p.y, p.y - s.y1, 0.0});
+      if (gx * gx + gy * gy > box2) return;
+      const double t = s.l2 > 0 ? std::clamp(((p.x - s.a.x) * s.vx + (p.y - s.a.y) * s.vy) / s.l2, 0.0, 1.0) : 0.0;
+      const double dx = p.x - (s.a.x + t * s.vx), dy = p.y - (s.a.y + t * s.vy);
+      if (dx * dx + dy * dy > above2) return;
+      const double d = std::hypot(dx, dy);
+      if (d < best) {
+        best = d;
+        above2 = best * best * (1 + 1e-9);
+        box2 = (best + margin) * (best + margin);
+      }
+    };
+    visit(segs[size_t(centre)]);  // likely the nearest: the bounds then skip most of the rest
+    if (!closed) {
+      for (int64_t k = std::max<int64_t>(0, centre - kWindow); k <= std::min(segments - 1, centre + kWindow); ++k)
+        visit(segs[size_t(k)]);
+    } else if (segments <= 2 * kWindow + 1) {
+      for (const Segment& s : segs) visit(s);  // the window wraps round them all
+    } else {
+      int64_t i = ((centre - kWindow) % segments + segments) % segments;
+      for (int64_t k = 0; k <= 2 * kWindow; ++k) {
+        visit(segs[size_t(i)]);
+        if (++i == segments) i = 0;
+      }
     }
     sum += best;
   }
@@ -194,6 +234,20 @@ std::vector<FeatureCurve> FitFeaturesToBudget(const std::vector<FeatureCurve>& c
   };
   std::vector<Step> steps;
   const double spacing = std::max(1e-9, options.interior_spacing);
+  // The coarser fits of each feature, features in chunks on the threads.
+  const int levels = std::max(0, options.coarse_levels);
+  std::vector<std::vector<double>> errors(curves.size());
+  constexpr size_t kCurveChunk = 16;
+  fit_internal::ForEachChunk(curves.size(), kCurveChunk, options.threads, [&](size_t, size_t i0, size_t i1) {
+    for (size_t i = i0; i < i1; ++i) {
+      if (curves[i].boundary) continue;
+      for (int k = 1; k <= levels; ++k) {
+        double error = 0;
+        coarse[i].push_back(Coarsen(curves[i], std::ldexp(1.0, k), &error));
+        errors[i].push_back(error);
+      }
+    }
+  });
   for (size_t i = 0; i < curves.size(); ++i) {
     const FeatureCurve& c = curves[i];
     if (c.boundary) continue;
@@ -201,12 +255,11 @@ std::vector<FeatureCurve> FitFeaturesToBudget(const std::vector<FeatureCurve>& c
     const double full_value = contrast * contrast * PolygonLength(c);
     std::vector<Choice> choices = {{0, 0, -1}, {FeatureVertexCost(c, options.pairs) + junction_cost[i], full_value, 0}};
     double finer_cost = choices.back().cost;
-    for (int k = 1; k <= options.coarse_levels; ++k) {
-      double error = 0;
-      FeatureCurve coarser = Coarsen(c, std::ldexp(1.0, k), &error);
+    for (int k = 1; k <= levels; ++k) {
+      const FeatureCurve& coarser = coarse[i][size_t(k) - 1];
+      const double error = errors[i][size_t(k) - 1];
       const double cost = FeatureVertexCost(coarser, options.pairs) + junction_cost[i];
       const double value = full_value * std::max(0.0, 1.0 - 12.0 * error / spacing);
-      coarse[i].push_back(std::move(coarser));
       if (!(cost < finer_cost) || !(value > 0)) continue;
       finer_cost = cost;
       choices.push_back({cost, value, k});

@@ -12,7 +12,9 @@
 
 #include "contours.h"
 #include "opencv_kernels.h"
+#include "parallel.h"
 #include "sdvi/bspline.h"
+#include "sdvi/default_init_allocator.h"
 #include "sdvi/features.h"
 
 namespace sdvi {
@@ -30,6 +32,10 @@ struct GradientField {
   int width = 0, height = 0;
   cv::Mat mag, nx, ny;               // CV_32F
   std::vector<cv::Mat> smoothed;     // smoothed colour channels, CV_32F
+  cv::Mat offset;                    // CV_32F: SuppressAndLink's peak offsets
+  // The matrices' storage, plane after plane, on huge pages from the first byte (a fresh
+  // 4 KiB page costs a fault, slow on virtual machines: sdvi/default_init_allocator.h).
+  std::vector<float, DefaultInitAllocator<float>> planes;
 };
 
 float Bilinear(const cv::Mat& m, double x, double y) {
@@ -45,88 +51,137 @@ float Bilinear(const cv::Mat& m, double x, double y) {
   return (r0[x0] * (1 - fx) + r0[x1] * fx) * (1 - fy) + (r1[x0] * (1 - fx) + r1[x1] * fx) * fy;
 }
 
-GradientField ComputeGradient(const Raster& image, double sigma) {
+// Rows per band of the per-pixel passes (parallel.h: the bands do not depend on the
+// thread count, and every pixel's value is computed as on the whole image).
+constexpr size_t kBandRows = 64;
+
+// The smoothed channels, their Sobel derivatives and the structure tensor's principal
+// eigenvector, in passes over bands of rows on the threads: the channels apart, each
+// smoothed, then the derivatives, the tensor and its eigenvector. The filters run on views
+// of bands of the whole matrices: OpenCV reads the rows around a view as the neighbouring
+// image rows and applies the border only at the image's top and bottom, so every value has
+// the bits of the filters run on the whole image. Scratch lies in planes of g.planes.
+GradientField ComputeGradient(const Raster& image, double sigma, int threads) {
   fit_internal::UseOpenCvBaselineKernels();
   GradientField g;
-  g.width = image.width;
-  g.height = image.height;
+  const int w = image.width, h = image.height;
+  g.width = w;
+  g.height = h;
   const int nc = image.channels >= 3 ? 3 : 1;
-  cv::Mat jxx = cv::Mat::zeros(image.height, image.width, CV_32F);
-  cv::Mat jxy = cv::Mat::zeros(image.height, image.width, CV_32F);
-  cv::Mat jyy = cv::Mat::zeros(image.height, image.width, CV_32F);
-  for (int c = 0; c < nc; ++c) {
-    cv::Mat ch(image.height, image.width, CV_32F);
-    for (int y = 0; y < image.height; ++y) {
-      float* row = ch.ptr<float>(y);
-      for (int x = 0; x < image.width; ++x) row[x] = image.at(x, y, c);
-    }
-    cv::Mat s;
-    if (sigma > 0)
-      cv::GaussianBlur(ch, s, cv::Size(0, 0), sigma, sigma, cv::BORDER_REPLICATE);
-    else
-      s = ch;
-    ch.release();
-    cv::Mat gx, gy;
-    cv::Sobel(s, gx, CV_32F, 1, 0, 3, 1.0 / 8, 0, cv::BORDER_REPLICATE);
-    cv::Sobel(s, gy, CV_32F, 0, 1, 3, 1.0 / 8, 0, cv::BORDER_REPLICATE);
-    jxx += gx.mul(gx);
-    jxy += gx.mul(gy);
-    jyy += gy.mul(gy);
-    g.smoothed.push_back(s);
-  }
-  // Principal eigenvector of [jxx jxy; jxy jyy] in place: jxx -> mag, jxy -> nx, jyy -> ny.
-  for (int y = 0; y < image.height; ++y) {
-    float* a = jxx.ptr<float>(y);
-    float* b = jxy.ptr<float>(y);
-    float* d = jyy.ptr<float>(y);
-    for (int x = 0; x < image.width; ++x) {
-      double half = 0.5 * (a[x] - d[x]);
-      double root = std::sqrt(half * half + double(b[x]) * b[x]);
-      double l1 = 0.5 * (a[x] + d[x]) + root;
-      double vx, vy;
-      if (half >= 0) {
-        vx = half + root;
-        vy = b[x];
-      } else {
-        vx = b[x];
-        vy = -half + root;
+  const size_t plane = size_t(w) * size_t(h);
+  g.planes.resize(plane * size_t(5 + nc));  // unwritten: each band writes its own rows
+  auto plane_mat = [&](int k) { return cv::Mat(h, w, CV_32F, g.planes.data() + plane * size_t(k)); };
+  g.mag = plane_mat(0);
+  g.nx = plane_mat(1);
+  g.ny = plane_mat(2);
+  g.offset = plane_mat(3);
+  const cv::Mat scratch = plane_mat(4);
+  for (int c = 0; c < nc; ++c) g.smoothed.push_back(plane_mat(5 + c));
+  // The channels apart, into mag, nx, ny (free until the tensor), or, unsmoothed, as they are.
+  const cv::Mat channel[3] = {g.mag, g.nx, g.ny};
+  fit_internal::ForEachChunk(size_t(h), kBandRows, threads, [&](size_t, size_t y0, size_t y1) {
+    for (int c = 0; c < nc; ++c) {
+      cv::Mat out = sigma > 0 ? channel[c] : g.smoothed[c];
+      for (int y = int(y0); y < int(y1); ++y) {
+        float* row = out.ptr<float>(y);
+        const float* px = &image.data[size_t(y) * size_t(w) * size_t(image.channels) + size_t(c)];
+        for (int x = 0; x < w; ++x) row[x] = px[size_t(x) * size_t(image.channels)];
       }
-      double len = std::hypot(vx, vy);
-      if (len > 1e-12) {
-        vx /= len;
-        vy /= len;
-      } else {
-        vx = 1;
-        vy = 0;
-      }
-      a[x] = float(std::sqrt(std::max(0.0, l1) / nc));
-      b[x] = float(vx);
-      d[x] = float(vy);
     }
+  });
+  if (sigma > 0) {
+    fit_internal::ForEachChunk(size_t(h), kBandRows, threads, [&](size_t, size_t y0, size_t y1) {
+      for (int c = 0; c < nc; ++c) {
+        cv::Mat out = g.smoothed[c].rowRange(int(y0), int(y1));
+        cv::GaussianBlur(channel[c].rowRange(int(y0), int(y1)), out, cv::Size(0, 0), sigma, sigma,
+                         cv::BORDER_REPLICATE);
+      }
+    });
   }
-  g.mag = jxx;
-  g.nx = jxy;
-  g.ny = jyy;
+  // The tensor [jxx jxy; jxy jyy] in mag, nx, ny, the derivatives in offset and scratch.
+  fit_internal::ForEachChunk(size_t(h), kBandRows, threads, [&](size_t, size_t b0, size_t b1) {
+    const int y0 = int(b0), y1 = int(b1);
+    for (const cv::Mat& m : channel) m.rowRange(y0, y1).setTo(0.0f);
+    cv::Mat gx = g.offset.rowRange(y0, y1), gy = scratch.rowRange(y0, y1);
+    for (int c = 0; c < nc; ++c) {
+      const cv::Mat band = g.smoothed[c].rowRange(y0, y1);
+      cv::Sobel(band, gx, CV_32F, 1, 0, 3, 1.0 / 8, 0, cv::BORDER_REPLICATE);
+      cv::Sobel(band, gy, CV_32F, 0, 1, 3, 1.0 / 8, 0, cv::BORDER_REPLICATE);
+      // Summed over the channels in channel order, float products and sums.
+      for (int y = y0; y < y1; ++y) {
+        const float* dx = gx.ptr<float>(y - y0);
+        const float* dy = gy.ptr<float>(y - y0);
+        float* a = g.mag.ptr<float>(y);
+        float* b = g.nx.ptr<float>(y);
+        float* d = g.ny.ptr<float>(y);
+        for (int x = 0; x < w; ++x) {
+          const float xx = dx[x] * dx[x], xy = dx[x] * dy[x], yy = dy[x] * dy[x];
+          a[x] += xx;
+          b[x] += xy;
+          d[x] += yy;
+        }
+      }
+    }
+    // Principal eigenvector in place: jxx -> mag, jxy -> nx, jyy -> ny.
+    for (int y = y0; y < y1; ++y) {
+      float* a = g.mag.ptr<float>(y);
+      float* b = g.nx.ptr<float>(y);
+      float* d = g.ny.ptr<float>(y);
+      for (int x = 0; x < w; ++x) {
+        double half = 0.5 * (a[x] - d[x]);
+        double root = std::sqrt(half * half + double(b[x]) * b[x]);
+        double l1 = 0.5 * (a[x] + d[x]) + root;
+        double vx, vy;
+        if (half >= 0) {
+          vx = half + root;
+          vy = b[x];
+        } else {
+          vx = b[x];
+          vy = -half + root;
+        }
+        double len = std::hypot(vx, vy);
+        if (len > 1e-12) {
+          vx /= len;
+          vy /= len;
+        } else {
+          vx = 1;
+          vy = 0;
+        }
+        a[x] = float(std::sqrt(std::max(0.0, l1) / nc));
+        b[x] = float(vx);
+        d[x] = float(vy);
+      }
+    }
+  });
   return g;
 }
 
 // Hysteresis threshold: explicit, or max(floor, quantile of the magnitude in the domain).
-double HighThreshold(const GradientField& g, const cv::Mat& domain, const FeatureOptions& o) {
+double HighThreshold(const GradientField& g, const cv::Mat& domain, const FeatureOptions& o, int threads) {
   if (o.high_threshold > 0) return o.high_threshold;
-  // Histogram of magnitudes, 0.25 units per bin.
+  // Histogram of magnitudes, 0.25 units per bin (counts per band, then added).
   constexpr int kBins = 1024;
   constexpr double kBinWidth = 0.25;
+  std::vector<std::vector<uint64_t>> band_hist(fit_internal::ChunkCount(size_t(g.height), kBandRows));
+  fit_internal::ForEachChunk(size_t(g.height), kBandRows, threads, [&](size_t band, size_t y0, size_t y1) {
+    std::vector<uint64_t>& hist = band_hist[band];
+    hist.assign(kBins, 0);
+    for (size_t y = y0; y < y1; ++y) {
+      const float* m = g.mag.ptr<float>(int(y));
+      const uint8_t* d = domain.empty() ? nullptr : domain.ptr<uint8_t>(int(y));
+      for (int x = 0; x < g.width; ++x) {
+        if (d && !d[x]) continue;
+        hist[std::min(kBins - 1, int(m[x] / kBinWidth))]++;
+      }
+    }
+  });
   std::vector<uint64_t> hist(kBins, 0);
   uint64_t total = 0;
-  for (int y = 0; y < g.height; ++y) {
-    const float* m = g.mag.ptr<float>(y);
-    const uint8_t* d = domain.empty() ? nullptr : domain.ptr<uint8_t>(y);
-    for (int x = 0; x < g.width; ++x) {
-      if (d && !d[x]) continue;
-      hist[std::min(kBins - 1, int(m[x] / kBinWidth))]++;
-      ++total;
+  for (const std::vector<uint64_t>& b : band_hist)
+    for (int i = 0; i < kBins; ++i) {
+      hist[i] += b[i];
+      total += b[i];
     }
-  }
   double q = 0;
   uint64_t target = uint64_t(std::clamp(o.high_quantile, 0.0, 1.0) * double(total));
   uint64_t acc = 0;
@@ -140,38 +195,42 @@ double HighThreshold(const GradientField& g, const cv::Mat& domain, const Featur
   return std::max(o.min_high_threshold, q);
 }
 
-// Non-maximum suppression across the edge + hysteresis. Returns the edge map (1 = edge)
-// and the sub-pixel offset of each edge pixel's peak along its normal.
-cv::Mat SuppressAndLink(const GradientField& g, const cv::Mat& domain, double high, double low,
-                        cv::Mat* offset) {
+// Non-maximum suppression across the edge + hysteresis. Returns the edge map (1 = edge) and
+// fills g.offset, the sub-pixel offset of each edge pixel's peak along its normal.
+cv::Mat SuppressAndLink(GradientField& g, const cv::Mat& domain, double high, double low, int threads) {
   const int w = g.width, h = g.height;
-  cv::Mat cand = cv::Mat::zeros(h, w, CV_8U);  // 1 = candidate, 2 = strong
-  *offset = cv::Mat::zeros(h, w, CV_32F);
-  for (int y = 0; y < h; ++y) {
-    const float* m = g.mag.ptr<float>(y);
-    const float* nx = g.nx.ptr<float>(y);
-    const float* ny = g.ny.ptr<float>(y);
-    const uint8_t* d = domain.empty() ? nullptr : domain.ptr<uint8_t>(y);
-    uint8_t* c = cand.ptr<uint8_t>(y);
-    float* off = offset->ptr<float>(y);
-    for (int x = 0; x < w; ++x) {
-      if (m[x] < low || (d && !d[x])) continue;
-      float a = Bilinear(g.mag, x - nx[x], y - ny[x]);
-      float b = Bilinear(g.mag, x + nx[x], y + ny[x]);
-      // Ties: keep the pixel on the "minus" side only, so plateaus give one line.
-      if (!(m[x] > a && m[x] >= b)) continue;
-      double denom = a - 2.0 * m[x] + b;
-      double delta = denom < 0 ? 0.5 * (a - b) / denom : 0.0;
-      off[x] = float(std::clamp(delta, -0.5, 0.5));
-      c[x] = m[x] >= high ? 2 : 1;
+  cv::Mat cand(h, w, CV_8U);  // 1 = candidate, 2 = strong; each band zeroes its rows first
+  fit_internal::ForEachChunk(size_t(h), kBandRows, threads, [&](size_t, size_t y0, size_t y1) {
+    for (int y = int(y0); y < int(y1); ++y) {
+      const float* m = g.mag.ptr<float>(y);
+      const float* nx = g.nx.ptr<float>(y);
+      const float* ny = g.ny.ptr<float>(y);
+      const uint8_t* d = domain.empty() ? nullptr : domain.ptr<uint8_t>(y);
+      uint8_t* c = cand.ptr<uint8_t>(y);
+      float* off = g.offset.ptr<float>(y);
+      std::fill(c, c + w, uint8_t(0));
+      std::fill(off, off + w, 0.0f);
+      for (int x = 0; x < w; ++x) {
+        if (m[x] < low || (d && !d[x])) continue;
+        float a = Bilinear(g.mag, x - nx[x], y - ny[x]);
+        float b = Bilinear(g.mag, x + nx[x], y + ny[x]);
+        // Ties: keep the pixel on the "minus" side only, so plateaus give one line.
+        if (!(m[x] > a && m[x] >= b)) continue;
+        double denom = a - 2.0 * m[x] + b;
+        double delta = denom < 0 ? 0.5 * (a - b) / denom : 0.0;
+        off[x] = float(std::clamp(delta, -0.5, 0.5));
+        c[x] = m[x] >= high ? 2 : 1;
+      }
     }
-  }
+  });
   // Hysteresis: keep candidates 8-connected to a strong pixel.
   cv::Mat edge = cv::Mat::zeros(h, w, CV_8U);
   std::vector<int> stack;
-  for (int y = 0; y < h; ++y)
+  for (int y = 0; y < h; ++y) {
+    const uint8_t* c = cand.ptr<uint8_t>(y);
+    const uint8_t* e = edge.ptr<uint8_t>(y);
     for (int x = 0; x < w; ++x) {
-      if (cand.at<uint8_t>(y, x) != 2 || edge.at<uint8_t>(y, x)) continue;
+      if (c[x] != 2 || e[x]) continue;
       edge.at<uint8_t>(y, x) = 1;
       stack.push_back(y * w + x);
       while (!stack.empty()) {
@@ -187,6 +246,7 @@ cv::Mat SuppressAndLink(const GradientField& g, const cv::Mat& domain, double hi
         }
       }
     }
+  }
   return edge;
 }
 
@@ -254,11 +314,13 @@ struct Chain {
 // neighbours) and closed loops; scan order makes the result deterministic.
 std::vector<Chain> LinkChains(const cv::Mat& edge) {
   const int w = edge.cols, h = edge.rows;
-  cv::Mat degree = cv::Mat::zeros(h, w, CV_8U);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      if (edge.at<uint8_t>(y, x)) degree.at<uint8_t>(y, x) = uint8_t(__builtin_popcount(NeighbourBits(edge, x, y)));
-  cv::Mat visited = cv::Mat::zeros(h, w, CV_8U);
+  cv::Mat degree(h, w, CV_8U), visited(h, w, CV_8U);
+  for (int y = 0; y < h; ++y) {
+    const uint8_t* e = edge.ptr<uint8_t>(y);
+    uint8_t* d = degree.ptr<uint8_t>(y);
+    for (int x = 0; x < w; ++x) d[x] = e[x] ? uint8_t(__builtin_popcount(NeighbourBits(edge, x, y))) : 0;
+  }
+  visited.setTo(0);
   auto is_node = [&](int x, int y) {
     uint8_t d = degree.at<uint8_t>(y, x);
     return d != 2;
@@ -639,47 +701,64 @@ StatusOr<std::vector<FeatureCurve>> DetectFeatures(const Raster& image, const Ra
   }
   if (!options.detect_edges || !CanHaveEdges(image, options)) return curves;
 
-  GradientField g = ComputeGradient(image, options.smoothing_sigma);
+  const int threads = std::max(1, options.threads);
+  GradientField g = ComputeGradient(image, options.smoothing_sigma, threads);
   if (object_mode) {
     // Colours outside the domain are arbitrary: do not let them into the gradient.
     g.mag.setTo(0.0f, edge_domain == 0);
   }
-  const double high = HighThreshold(g, edge_domain, options);
+  const double high = HighThreshold(g, edge_domain, options, threads);
   const double low = options.low_ratio * high;
-  cv::Mat offset;
-  cv::Mat edge = SuppressAndLink(g, edge_domain, high, low, &offset);
+  cv::Mat edge = SuppressAndLink(g, edge_domain, high, low, threads);
   Thin(edge);
   std::vector<Chain> chains = JoinAtJunctions(LinkChains(edge), edge);
 
-  // Samples, blur and length per kept chain.
+  // Samples, blur and length per chain, chains in chunks on the threads; the kept ones in
+  // chain order.
   struct Kept {
     std::vector<Point2> samples;
     bool closed;
     double blur;
     double contrast;
     double length;
+    bool keep = false;
   };
-  std::vector<Kept> kept;
-  for (const Chain& c : chains) {
-    Kept k;
-    k.closed = c.closed;
+  constexpr size_t kChainChunk = 32;
+  std::vector<Kept> measured(chains.size());
+  fit_internal::ForEachChunk(chains.size(), kChainChunk, threads, [&](size_t, size_t i0, size_t i1) {
     std::vector<double> blurs, contrasts;
-    for (int p : c.pixels) {
-      int x = p % w, y = p / w;
-      double d = offset.at<float>(y, x);
-      k.samples.push_back({x + 0.5 + d * g.nx.at<float>(y, x), y + 0.5 + d * g.ny.at<float>(y, x)});
-      double contrast = 0;
-      blurs.push_back(PixelBlur(g, x, y, options.smoothing_sigma, &contrast));
-      contrasts.push_back(contrast);
+    for (size_t i = i0; i < i1; ++i) {
+      const Chain& c = chains[i];
+      Kept& k = measured[i];
+      k.closed = c.closed;
+      blurs.clear();
+      contrasts.clear();
+      k.samples.reserve(c.pixels.size());
+      for (int p : c.pixels) {
+        int x = p % w, y = p / w;
+        double d = g.offset.at<float>(y, x);
+        k.samples.push_back({x + 0.5 + d * g.nx.at<float>(y, x), y + 0.5 + d * g.ny.at<float>(y, x)});
+        double contrast = 0;
+        blurs.push_back(PixelBlur(g, x, y, options.smoothing_sigma, &contrast));
+        contrasts.push_back(contrast);
+      }
+      k.length = ChainLength(k.samples, k.closed);
+      if (k.length < options.min_chain_length || k.samples.size() < 3) {
+        std::vector<Point2>().swap(k.samples);
+        continue;
+      }
+      std::nth_element(blurs.begin(), blurs.begin() + blurs.size() / 2, blurs.end());
+      k.blur = std::min(1.0, blurs[blurs.size() / 2] / options.blur_scale);
+      std::nth_element(contrasts.begin(), contrasts.begin() + contrasts.size() / 2, contrasts.end());
+      k.contrast = contrasts[contrasts.size() / 2];
+      k.keep = true;
     }
-    k.length = ChainLength(k.samples, k.closed);
-    if (k.length < options.min_chain_length || k.samples.size() < 3) continue;
-    std::nth_element(blurs.begin(), blurs.begin() + blurs.size() / 2, blurs.end());
-    k.blur = std::min(1.0, blurs[blurs.size() / 2] / options.blur_scale);
-    std::nth_element(contrasts.begin(), contrasts.begin() + contrasts.size() / 2, contrasts.end());
-    k.contrast = contrasts[contrasts.size() / 2];
-    kept.push_back(std::move(k));
-  }
+  });
+  std::vector<Chain>().swap(chains);
+  std::vector<Kept> kept;
+  for (Kept& k : measured)
+    if (k.keep) kept.push_back(std::move(k));
+  std::vector<Kept>().swap(measured);
   std::vector<double> sharpness(kept.size());
   if (options.quantize_sharpness && !kept.empty()) {
     std::vector<double> v, wt;
@@ -698,15 +777,22 @@ StatusOr<std::vector<FeatureCurve>> DetectFeatures(const Raster& image, const Ra
   fit.tolerance = options.fit_tolerance;
   fit.max_spacing = options.max_spacing;
   const int window = std::max(1, int(std::lround(options.corner_window)));
-  for (size_t i = 0; i < kept.size(); ++i) {
-    std::vector<uint32_t> corners =
-        FindChainCorners(kept[i].samples, kept[i].closed, options.corner_angle_deg, window);
-    FeatureCurve curve = FitChain(kept[i].samples, kept[i].closed, corners, fit);
-    curve.sharpness = float(std::clamp(sharpness[i], 0.0, 1.0));
-    curve.contrast = float(kept[i].contrast);
-    curve.boundary = false;
-    if (curve.points.size() >= 2) curves.push_back(std::move(curve));
-  }
+  // The fits in chunks of chains on the threads, appended in chain order.
+  std::vector<FeatureCurve> fitted(kept.size());
+  fit_internal::ForEachChunk(kept.size(), kChainChunk, threads, [&](size_t, size_t i0, size_t i1) {
+    for (size_t i = i0; i < i1; ++i) {
+      std::vector<uint32_t> corners =
+          FindChainCorners(kept[i].samples, kept[i].closed, options.corner_angle_deg, window);
+      FeatureCurve& curve = fitted[i];
+      curve = FitChain(kept[i].samples, kept[i].closed, corners, fit);
+      curve.sharpness = float(std::clamp(sharpness[i], 0.0, 1.0));
+      curve.contrast = float(kept[i].contrast);
+      curve.boundary = false;
+    }
+  });
+  // Copies made here: the fits' own memory, from the threads' malloc arenas, is all freed.
+  for (const FeatureCurve& curve : fitted)
+    if (curve.points.size() >= 2) curves.push_back(curve);
   return curves;
 }
 

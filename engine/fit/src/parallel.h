@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
+#include <exception>
+#include <mutex>
 #include <thread>
 #include <vector>
 
@@ -16,28 +18,38 @@ namespace sdvi::fit_internal {
 
 // Calls body(chunk, begin, end) for chunk = 0 .. ceil(count / chunk_size) - 1, covering
 // [0, count) in pieces of chunk_size items, on up to `threads` threads (chunks taken in
-// turn from a shared counter).
+// turn from a shared counter). An exception thrown by body (std::bad_alloc, cv::Exception)
+// stops the hand-out of chunks and is thrown again on the calling thread after the join.
 template <typename Body>
 void ForEachChunk(size_t count, size_t chunk_size, int threads, Body&& body) {
   if (count == 0) return;
   chunk_size = std::max<size_t>(1, chunk_size);
   const size_t chunks = (count + chunk_size - 1) / chunk_size;
   const size_t workers = std::min<size_t>(std::max(1, threads), chunks);
-  std::atomic<size_t> next{0};
-  auto work = [&] {
-    for (size_t k = next++; k < chunks; k = next++) {
-      body(k, k * chunk_size, std::min(count, (k + 1) * chunk_size));
-    }
-  };
   if (workers <= 1) {
-    work();
+    for (size_t k = 0; k < chunks; ++k) body(k, k * chunk_size, std::min(count, (k + 1) * chunk_size));
     return;
   }
+  std::atomic<size_t> next{0};
+  std::mutex failed_mutex;
+  std::exception_ptr failed;
+  auto work = [&] {
+    try {
+      for (size_t k = next++; k < chunks; k = next++) {
+        body(k, k * chunk_size, std::min(count, (k + 1) * chunk_size));
+      }
+    } catch (...) {
+      next = chunks;
+      std::lock_guard<std::mutex> lock(failed_mutex);
+      if (!failed) failed = std::current_exception();
+    }
+  };
   std::vector<std::thread> pool;
   pool.reserve(workers - 1);
   for (size_t w = 1; w < workers; ++w) pool.emplace_back(work);
   work();
   for (std::thread& t : pool) t.join();
+  if (failed) std::rethrow_exception(failed);
 }
 
 // The number of chunks ForEachChunk makes.

@@ -16,6 +16,10 @@
 
 #include <opencv2/core.hpp>
 
+#if defined(__GLIBC__)
+#include <malloc.h>  // malloc_trim
+#endif
+
 #include "sdvi/feature_budget.h"
 #include "sdvi/progress.h"
 #include "sdvi/render.h"
@@ -170,6 +174,7 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
   phase("features");
   Clock::time_point start = Clock::now();
   FeatureOptions feature_options = options.features;
+  feature_options.threads = options.threads;
   if (given != nullptr) feature_options.detect_edges = false;  // domain contours only
   SDVI_ASSIGN_OR_RETURN(std::vector<FeatureCurve> detected,
                         DetectFeatures(raster, mask, feature_options));
@@ -180,6 +185,7 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
     cost_options.vertex_budget = std::numeric_limits<double>::infinity();
     cost_options.pairs = options.mesh.pairs;
     cost_options.junctions = options.mesh.junctions;
+    cost_options.threads = options.threads;
     FeatureBudgetStats cost;
     (void)FitFeaturesToBudget(*given, cost_options, &cost);
     vertex_budget += std::min(cost.vertices_detected, options.given_features_extra * base_budget);
@@ -196,8 +202,14 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
   budget_options.interior_spacing = std::sqrt(double(domain_pixels) / base_budget);
   budget_options.pairs = options.mesh.pairs;
   budget_options.junctions = options.mesh.junctions;
+  budget_options.threads = options.threads;
   FeatureBudgetStats budget_stats;
   std::vector<FeatureCurve> curves = FitFeaturesToBudget(detected, budget_options, &budget_stats);
+#if defined(__GLIBC__)
+  // The memory the features' worker threads freed stays with their malloc arenas, where
+  // the main thread's allocations cannot reuse it: back to the system.
+  if (options.threads > 1) malloc_trim(0);
+#endif
   seconds.features += SecondsSince(start);
 
   // 3-4. Initial interior samples and the control mesh.

@@ -17,6 +17,8 @@ struct FeatureBudgetOptions {
   int coarse_levels = 3;        // coarser fits tried: tolerance and spacing x 2, x 4, x 8
   bool junctions = true;        // a feature also costs its junctions: half of (its polylines x
                                 // the other's) per crossing of two control polygons
+  int threads = 1;              // worker threads for the coarser fits; the choice does not
+                                // depend on it (spec/METHOD.md section 6 step 1, "Threads")
 };
 
 struct FeatureBudgetStats {

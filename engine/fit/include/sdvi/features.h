@@ -77,6 +77,9 @@ struct FeatureOptions {
   double fit_tolerance = 1.5;     // B-spline fit: max distance to the chain, px
   double max_spacing = 12;        // B-spline fit: max arc length per polygon segment, px
   double min_domain_area = 16;    // object mode: smaller components / holes are dropped, px^2
+  int threads = 1;                // worker threads for the per-pixel passes and the per-chain
+                                  // fits; the curves do not depend on it (spec/METHOD.md
+                                  // section 6 step 1, "Threads")
 };
 
 // Detects curvilinear features of image (RGB or grey, 0..255; alpha or mask gives the

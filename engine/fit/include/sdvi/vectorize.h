@@ -91,10 +91,10 @@ struct VectorizeOptions {
   // paper, which keeps the CDT as it is).
   int flip_passes = 16;            // sweeps at most (0: none)
   double flip_min_angle = 1.0;     // deg, smallest angle a flip may create
-  FeatureOptions features;
+  FeatureOptions features;         // its `threads` is replaced by `threads` below
   ControlMeshOptions mesh;        // CDT at the paper's minimum angle of 20 degrees
   ColorFitOptions fit;             // its `threads` is replaced by `threads` below
-  int threads = 1;                 // worker threads (colour fit assembly, final render)
+  int threads = 1;                 // worker threads (features, colour fit assembly, final render)
   Progress* progress = nullptr;    // optional terminal progress (not owned)
   // false: no final render and CompareImages (the report's psnr, mssim and mean_error stay 0,
   // levels 0, reconstruction empty), for a caller that measures the file it writes instead
