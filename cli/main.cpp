@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // sdvi: the command-line tool. CLI11 parses the subcommand and its options; the
 // subcommand's callback does the work and sets the exit code (args.h).
+#include <malloc.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -63,6 +64,11 @@ void RunAgainWithHugePages(char** argv) {
 
 int main(int argc, char** argv) {
   if (argc >= 2) RunAgainWithHugePages(argv);
+#ifdef M_ARENA_MAX
+  // One malloc arena for all threads (spec/METHOD.md 6, "Memory pages"): the blocks a phase's
+  // worker threads free are reused by the next phase instead of held in per-thread arenas.
+  mallopt(M_ARENA_MAX, 1);
+#endif
   CLI::App app("sdvi: images as curvilinear-feature-driven subdivision surfaces.\n"
                "Vectorize rasters into resolution-free .sdvi files, render them at any size, "
                "export them to glTF, compress them.",
