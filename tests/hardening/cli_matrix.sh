@@ -112,7 +112,7 @@ fi
 
 # A memory limit turns a runaway into a clean limit error (issue 16, case 3).
 cases=$((cases + 1))
-"$SDVI" sample -o "$WORK/big.png" --width 3000 --height 3000 >/dev/null || fail "sample 3000x3000"
+"$SDVI" sample -o "$WORK/big.png" --width 4000 --height 4000 >/dev/null || fail "sample 4000x4000"
 "$SDVI" vectorize "$WORK/big.png" -o "$WORK/big.sdvi" --max-memory 600M >/dev/null 2>"$WORK/err.txt"; rc=$?
 [ $rc -eq 1 ] && grep -q "limit_exceeded" "$WORK/err.txt" && grep -q "big.png" "$WORK/err.txt" && [ ! -e "$WORK/big.sdvi" ] ||
   fail "vectorize --max-memory 600M: exit $rc, $(head -1 "$WORK/err.txt")"

@@ -28,7 +28,10 @@ struct DefaultInitAllocator : std::allocator<T> {
   T* allocate(size_t n) {
     if (n * sizeof(T) < internal::kLargeBufferBytes) return std::allocator<T>::allocate(n);
     const size_t bytes = (n * sizeof(T) + kHugePage - 1) & ~(kHugePage - 1);  // whole huge pages
-    void* p = ::operator new(bytes, std::align_val_t{kHugePage});
+    // nothrow, then bad_alloc: a failed block is an exception under the sanitizers too
+    // (their throwing operator new ends the process).
+    void* p = ::operator new(bytes, std::align_val_t{kHugePage}, std::nothrow);
+    if (p == nullptr) throw std::bad_alloc();
     internal::AdviseHugePages(p, bytes);
     return static_cast<T*>(p);
   }
