@@ -10,6 +10,7 @@
 
 #include "batch_args.h"
 #include "sdvi/file_util.h"
+#include "sdvi/raster_io.h"
 
 namespace sdvi::cli {
 namespace {
@@ -20,6 +21,8 @@ struct CommandSetup {
   std::vector<const std::string*> inputs, outputs;
   uint64_t max_memory = 0;
   const std::string* output = nullptr;  // -o (AddOutput)
+  bool raster_codecs = false;           // UsesRasterCodecs
+  const std::string* raster_when = nullptr;
 };
 std::map<const CLI::App*, CommandSetup>& Setup() {
   static std::map<const CLI::App*, CommandSetup> setups;
@@ -102,7 +105,11 @@ void SetAction(CLI::App* command, Outcome& outcome, std::function<int()> run) {
     try {
       if (RunBatchIfAsked(command, OtherOutputs(command), outcome.exit_code)) return;
       Status ready = CheckOutputs(command);
-      if (ready.ok()) ready = LimitMemory(Setup()[command].max_memory);
+      const CommandSetup& setup = Setup()[command];
+      // Before the limit (OpenRasterCodecs); a failure here is reported by the decode itself.
+      if (ready.ok() && setup.raster_codecs && (!setup.raster_when || !setup.raster_when->empty()))
+        (void)OpenRasterCodecs();
+      if (ready.ok()) ready = LimitMemory(setup.max_memory);
       outcome.exit_code = ready.ok() ? run() : ReportError(command->get_name(), ready);
     } catch (const std::bad_alloc&) {
       const CommandSetup& setup = Setup()[command];
@@ -116,6 +123,11 @@ void SetAction(CLI::App* command, Outcome& outcome, std::function<int()> run) {
           ReportError(command->get_name(), Status(StatusCode::kInternal, e.what()));
     }
   });
+}
+
+void UsesRasterCodecs(CLI::App* command, const std::string* when_given) {
+  Setup()[command].raster_codecs = true;
+  Setup()[command].raster_when = when_given;
 }
 
 void MarkInput(CLI::App* command, const std::string& path) { Setup()[command].inputs.push_back(&path); }

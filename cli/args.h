@@ -48,6 +48,10 @@ CLI::Option* AddOutput(CLI::App* command, std::string& path, const std::string& 
 // cannot be written fails before any work and leaves nothing behind.
 void MarkInput(CLI::App* command, const std::string& path);
 void MarkOutput(CLI::App* command, const std::string& path);
+// The command decodes or encodes raster images (PNG, JPEG, ...), always or, with when_given,
+// only when that option is non-empty: the raster codecs are opened before its memory limit
+// is set (sdvi/raster_io.h, OpenRasterCodecs).
+void UsesRasterCodecs(CLI::App* command, const std::string* when_given = nullptr);
 // Batch mode (README "Many images"): what a directory contributes to a batch and what each
 // job writes.
 struct BatchSpec {

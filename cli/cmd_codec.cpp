@@ -118,6 +118,7 @@ void RegisterCompress(CLI::App& app, Outcome& outcome) {
                                                                               {"smallest", ColorCoding::kSmallest}}))
       ->default_str("rgb");
   MarkInput(c, a->reference);
+  UsesRasterCodecs(c, &a->reference);
   auto* reference = c->add_option("--reference", a->reference,
                                   "the original image: the automatic bit depths keep the error added to ~1% of the fit's")
                         ->type_name("IMG");

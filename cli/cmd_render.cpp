@@ -297,6 +297,7 @@ void RegisterRender(CLI::App& app, Outcome& outcome) {
   a->bits_opt = c->add_option("--bits", a->bits, "PNG bits per channel")->check(CLI::IsMember({8, 16}));
   c->add_flag("--half", a->half, "EXR: 16-bit half floats instead of 32-bit floats");
   MarkInput(c, a->reference);
+  UsesRasterCodecs(c);
   c->add_option("--reference", a->reference, "EXR: add an 'error' channel against this image")->type_name("IMG");
   c->add_option("--threads", a->threads, "worker threads (0: all cores)")->check(CLI::Range(0, 256));
   c->add_option("--overlay", a->overlay,
@@ -314,6 +315,7 @@ void RegisterCompare(CLI::App& app, Outcome& outcome) {
       "PSNR, MSSIM and mean error between two images, or a .sdvi (rendered at the other's size) and an image",
       {"sdvi compare out.png in.png", "sdvi compare result.sdvi original.png --json"});
   MarkInput(c, a->a);
+  UsesRasterCodecs(c);
   c->add_option("A", a->a, "the reconstruction: an image or a .sdvi")->required();
   MarkInput(c, a->b);
   c->add_option("B", a->b, "the reference: an image or a .sdvi")->required();

@@ -275,6 +275,7 @@ void RegisterVectorize(CLI::App& app, Outcome& outcome) {
   c->add_option("--iterations", o.iterations, "refinement rounds at most (0: the initial fit only)")
       ->check(CLI::Range(0, 1000));
   MarkInput(c, a->mask);
+  UsesRasterCodecs(c);
   c->add_option("--mask", a->mask, "an image of the same size whose non-zero pixels bound the domain (object image)")
       ->type_name("IMG");
   MarkOutput(c, a->report);
@@ -307,6 +308,7 @@ void RegisterSample(CLI::App& app, Outcome& outcome) {
       "write the built-in sample image (smooth gradients, sharp and blurred curved edges, corners)",
       {"sdvi sample -o sample.png", "sdvi sample -o wide.png --width 1024 --height 512"});
   AddOutput(c, a->output, "the PNG to write");
+  UsesRasterCodecs(c);
   c->add_option("--width", a->width, "width in pixels")->check(CLI::Range(8, 16384));
   c->add_option("--height", a->height, "height in pixels")->check(CLI::Range(8, 16384));
   SetAction(c, outcome, [a] {

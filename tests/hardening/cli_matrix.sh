@@ -116,6 +116,21 @@ cases=$((cases + 1))
 "$SDVI" vectorize "$WORK/big.png" -o "$WORK/big.sdvi" --max-memory 600M >/dev/null 2>"$WORK/err.txt"; rc=$?
 [ $rc -eq 1 ] && grep -q "limit_exceeded" "$WORK/err.txt" && grep -q "big.png" "$WORK/err.txt" && [ ! -e "$WORK/big.sdvi" ] ||
   fail "vectorize --max-memory 600M: exit $rc, $(head -1 "$WORK/err.txt")"
+# Under tighter limits the command either finishes or stops cleanly, wherever the limit bites:
+# before, the raster libraries loaded under the limit hung (log4cplus starting its threads)
+# and a worker thread that could not start ended the process (signal 6).
+"$SDVI" sample -o "$WORK/mid.png" --width 3000 --height 3000 >/dev/null || fail "sample 3000x3000"
+for limit in 150M 300M 450M; do
+  cases=$((cases + 1))
+  rm -f "$WORK/mid.sdvi"
+  timeout 300 "$SDVI" vectorize "$WORK/mid.png" -o "$WORK/mid.sdvi" --max-memory $limit >/dev/null 2>"$WORK/err.txt"; rc=$?
+  if [ $rc -eq 0 ]; then
+    [ -s "$WORK/mid.sdvi" ] || fail "vectorize --max-memory $limit: exit 0 without a file"
+  else
+    [ $rc -eq 1 ] && grep -q "limit_exceeded: .*mid.png" "$WORK/err.txt" && [ ! -e "$WORK/mid.sdvi" ] ||
+      fail "vectorize --max-memory $limit: exit $rc, $(head -1 "$WORK/err.txt")"
+  fi
+done
 
 echo "cli matrix: $cases cases, $failures failed"
 [ $failures -eq 0 ]

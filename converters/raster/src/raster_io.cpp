@@ -180,6 +180,8 @@ class CapturedStderr {
 
 }  // namespace
 
+Status OpenRasterCodecs() { return Oiio(StatusCode::kDecodeFailed, "raster input").status(); }
+
 // DecodeRaster's work, while standard error is captured.
 static StatusOr<Raster> DecodeCaptured(const std::vector<uint8_t>& bytes, const std::string& name,
                                 const RasterLimits& limits, RasterSource* source_out);

@@ -459,10 +459,7 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
     if (threads == 1 || t1 - t0 < 64) {
       for (int id = 0; id < threads; ++id) work(id);
     } else {
-      std::vector<std::thread> pool;
-      for (int id = 1; id < threads; ++id) pool.emplace_back(work, id);
-      work(0);
-      for (std::thread& th : pool) th.join();
+      RunTasks(threads, work);
     }
     // Scatter: each thread owns a range of rows of A and adds the blocks' rows in triangle
     // order, so every entry is summed in the same order for any thread count.
@@ -490,10 +487,7 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
     if (threads == 1 || t1 - t0 < 64) {
       for (int id = 0; id < threads; ++id) scatter(id);
     } else {
-      std::vector<std::thread> pool;
-      for (int id = 1; id < threads; ++id) pool.emplace_back(scatter, id);
-      scatter(0);
-      for (std::thread& th : pool) th.join();
+      RunTasks(threads, scatter);
     }
   }
   // The grouping tables are not needed by the solve: release them before it.

@@ -9,17 +9,16 @@
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
-#include <exception>
-#include <mutex>
-#include <thread>
-#include <vector>
+
+#include "sdvi/parallel.h"
 
 namespace sdvi::fit_internal {
 
 // Calls body(chunk, begin, end) for chunk = 0 .. ceil(count / chunk_size) - 1, covering
 // [0, count) in pieces of chunk_size items, on up to `threads` threads (chunks taken in
-// turn from a shared counter). An exception thrown by body (std::bad_alloc, cv::Exception)
-// stops the hand-out of chunks and is thrown again on the calling thread after the join.
+// turn from a shared counter; sdvi::RunTasks). An exception thrown by body (std::bad_alloc,
+// cv::Exception) stops the hand-out of chunks and is thrown again on the calling thread
+// after the join.
 template <typename Body>
 void ForEachChunk(size_t count, size_t chunk_size, int threads, Body&& body) {
   if (count == 0) return;
@@ -31,25 +30,16 @@ void ForEachChunk(size_t count, size_t chunk_size, int threads, Body&& body) {
     return;
   }
   std::atomic<size_t> next{0};
-  std::mutex failed_mutex;
-  std::exception_ptr failed;
-  auto work = [&] {
+  RunTasks(int(workers), [&](int) {
     try {
       for (size_t k = next++; k < chunks; k = next++) {
         body(k, k * chunk_size, std::min(count, (k + 1) * chunk_size));
       }
     } catch (...) {
       next = chunks;
-      std::lock_guard<std::mutex> lock(failed_mutex);
-      if (!failed) failed = std::current_exception();
+      throw;
     }
-  };
-  std::vector<std::thread> pool;
-  pool.reserve(workers - 1);
-  for (size_t w = 1; w < workers; ++w) pool.emplace_back(work);
-  work();
-  for (std::thread& t : pool) t.join();
-  if (failed) std::rethrow_exception(failed);
+  });
 }
 
 // The number of chunks ForEachChunk makes.

@@ -190,10 +190,7 @@ SsimSum ChannelSsim(X x, Y y, const std::vector<uint8_t>& mask,
     if (bands == 1) {
       run(0);
     } else {
-      std::vector<std::thread> pool;
-      for (int b = 1; b < bands; ++b) pool.emplace_back(run, b);
-      run(0);
-      for (std::thread& t : pool) t.join();
+      RunTasks(bands, run);
     }
     for (int yo = slab0; yo < slab1; ++yo) {
       if (!counted_row(yo)) continue;

@@ -56,12 +56,7 @@ RowBandBins BinTrianglesByRowBand(const std::vector<Triangle>& triangles, const 
   range.assign(count, kNoBand);
   std::vector<std::vector<uint32_t>> start(size_t(chunks), std::vector<uint32_t>(size_t(bands) + 1, 0));
   const uint32_t nv = uint32_t(pts.size());
-  auto in_parallel = [&](auto&& body) {
-    std::vector<std::thread> pool;
-    for (int c = 1; c < chunks; ++c) pool.emplace_back([&body, c] { body(c); });
-    body(0);
-    for (auto& t : pool) t.join();
-  };
+  auto in_parallel = [&](auto&& body) { RunTasks(chunks, body); };
   in_parallel([&](int c) {
     std::vector<uint32_t>& n = start[size_t(c)];
     TriangleSetup s;

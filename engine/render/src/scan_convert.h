@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "sdvi/default_init_allocator.h"
+#include "sdvi/parallel.h"
 #include "sdvi/render.h"
 
 namespace sdvi::render_internal {
@@ -169,12 +170,9 @@ inline void ForEachRowBand(int height, int threads, Body&& body) {
     body(0, 0, height);
     return;
   }
-  std::vector<std::thread> pool;
-  for (int b = 0; b < n; ++b) {
-    const int r0 = int(int64_t(height) * b / n), r1 = int(int64_t(height) * (b + 1) / n);
-    pool.emplace_back([&body, b, r0, r1] { body(b, r0, r1); });
-  }
-  for (auto& t : pool) t.join();
+  RunTasks(n, [&body, height, n](int b) {
+    body(b, int(int64_t(height) * b / n), int(int64_t(height) * (b + 1) / n));
+  });
 }
 
 // Fine triangles sorted into bands of output rows, so that a band's pixels stay in cache
@@ -213,13 +211,14 @@ inline void ForEachBand(int bands, int threads, int rows, Body&& body) {
     return;
   }
   std::atomic<int> next{0};
-  auto work = [&] {
-    for (int b = next.fetch_add(1); b < bands; b = next.fetch_add(1)) body(b);
-  };
-  std::vector<std::thread> pool;
-  for (int k = 1; k < n; ++k) pool.emplace_back(work);
-  work();
-  for (auto& t : pool) t.join();
+  RunTasks(n, [&](int) {
+    try {
+      for (int b = next.fetch_add(1); b < bands; b = next.fetch_add(1)) body(b);
+    } catch (...) {
+      next = bands;
+      throw;
+    }
+  });
 }
 
 // Runs body(begin, end) over contiguous index chunks of [0, count) in parallel.
@@ -232,12 +231,7 @@ inline void ForEachChunk(size_t count, int threads, Body&& body) {
     body(size_t(0), count);
     return;
   }
-  std::vector<std::thread> pool;
-  for (int b = 0; b < n; ++b) {
-    const size_t s0 = count * size_t(b) / size_t(n), s1 = count * size_t(b + 1) / size_t(n);
-    pool.emplace_back([&body, s0, s1] { body(s0, s1); });
-  }
-  for (auto& t : pool) t.join();
+  RunTasks(n, [&body, count, n](int b) { body(count * size_t(b) / size_t(n), count * size_t(b + 1) / size_t(n)); });
 }
 
 }  // namespace sdvi::render_internal

@@ -8,6 +8,8 @@
 #include <thread>
 #include <vector>
 
+#include "sdvi/parallel.h"
+
 namespace sdvi::subdiv_internal {
 
 // The hardware's threads, at most 8 (asked once: the query reads a file on Linux).
@@ -27,10 +29,9 @@ inline unsigned ThreadsFor(size_t num_rows, int requested) {
 template <typename Body>
 void ForRowBlocks(size_t num_rows, int requested_threads, const Body& body) {
   const unsigned threads = ThreadsFor(num_rows, requested_threads);
-  std::vector<std::thread> pool;
-  for (unsigned i = 1; i < threads; ++i) pool.emplace_back(body, num_rows * i / threads, num_rows * (i + 1) / threads);
-  body(size_t{0}, num_rows / threads);
-  for (std::thread& t : pool) t.join();
+  RunTasks(int(threads), [&body, num_rows, threads](int i) {
+    body(num_rows * unsigned(i) / threads, num_rows * unsigned(i + 1) / threads);
+  });
 }
 
 }  // namespace sdvi::subdiv_internal

@@ -315,10 +315,7 @@ void Compose(int requested_threads, size_t num_rows, const MaskRow& mask_row, co
   if (threads == 1) {
     run(0);
   } else {
-    std::vector<std::thread> pool;
-    for (unsigned i = 1; i < threads; ++i) pool.emplace_back(run, i);
-    run(0);
-    for (std::thread& t : pool) t.join();
+    RunTasks(int(threads), [&run](int i) { run(unsigned(i)); });
   }
   indices = std::move(first.indices);
   weights = std::move(first.weights);
@@ -385,10 +382,7 @@ void StencilTable::Apply(const float* in, size_t in_stride, float* out, size_t o
     run(0, n);
     return;
   }
-  std::vector<std::thread> pool;
-  for (unsigned i = 1; i < threads; ++i) pool.emplace_back(run, n * i / threads, n * (i + 1) / threads);
-  run(0, n / threads);
-  for (std::thread& t : pool) t.join();
+  RunTasks(int(threads), [&run, n, threads](int i) { run(n * unsigned(i) / threads, n * unsigned(i + 1) / threads); });
 }
 
 StatusOr<LimitSurface> BuildLimitSurface(const Image& image, const LimitSurfaceOptions& options) {

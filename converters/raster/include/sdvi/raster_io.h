@@ -44,6 +44,14 @@ struct RasterSource {
 // header before decoding). source, when given, receives what was found.
 StatusOr<Raster> LoadRaster(const std::string& path, RasterSource* source = nullptr);
 
+// Opens the raster decoders and encoders now: the OpenImageIO module and the libraries it
+// loads (spec/RASTER_INPUT.md "Loading"), otherwise opened on the first decode or PNG encode.
+// A program that limits its own address space (`sdvi --max-memory`) calls it before setting
+// the limit: mapping those libraries needs address space of its own, and one of them
+// (log4cplus) hangs in its start-up when a thread it starts is refused. Opens once per
+// process; the error is the one a decode would return (kDecodeFailed).
+Status OpenRasterCodecs();
+
 // The same for bytes already in memory (stdin); name is used in messages and, when it has
 // an extension, as the decoder's hint.
 StatusOr<Raster> DecodeRaster(const std::vector<uint8_t>& bytes, const std::string& name,

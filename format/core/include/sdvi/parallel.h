@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Tasks on threads, safe under memory limits: the one place where sdvi starts threads
+// (spec/METHOD.md 6 "Threads").
+#ifndef SDVI_PARALLEL_H_
+#define SDVI_PARALLEL_H_
+
+#include <exception>
+#include <thread>
+#include <vector>
+
+namespace sdvi {
+
+// Runs task(k) for k = 0 .. count - 1: task 0 on the calling thread, each other task on a
+// thread of its own. A thread that cannot be started (std::system_error, or std::bad_alloc
+// for its stack: an address-space limit such as --max-memory refuses it) leaves its task to
+// the calling thread, which runs it after task 0, so the same tasks run whatever the limit.
+// An exception thrown by a task (std::bad_alloc, cv::Exception) never leaves its thread:
+// every task runs to its end, all threads are joined, and then the exception of the lowest
+// task that threw is thrown again on the calling thread. A task that shares a work queue
+// with the others should stop taking work once one of them has failed.
+template <typename Task>
+void RunTasks(int count, Task&& task) {
+  if (count <= 0) return;
+  std::vector<std::exception_ptr> failed(static_cast<size_t>(count));
+  auto run = [&task, &failed](int k) noexcept {
+    try {
+      task(k);
+    } catch (...) {
+      failed[static_cast<size_t>(k)] = std::current_exception();
+    }
+  };
+  std::vector<std::thread> pool;
+  int started = 1;
+  try {
+    pool.reserve(static_cast<size_t>(count - 1));
+    for (; started < count; ++started) pool.emplace_back(run, started);
+  } catch (...) {
+    // Tasks started .. count - 1 have no thread: the calling thread runs them below.
+  }
+  run(0);
+  for (int k = started; k < count; ++k) run(k);
+  for (std::thread& thread : pool) thread.join();
+  for (const std::exception_ptr& e : failed) {
+    if (e) std::rethrow_exception(e);
+  }
+}
+
+}  // namespace sdvi
+
+#endif  // SDVI_PARALLEL_H_
