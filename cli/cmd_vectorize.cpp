@@ -136,76 +136,26 @@ Status VectorizeCommand(VectorizeArgs& args) {
   // The report's PSNR, MSSIM and mean error are the file's, measured here once: the
   // vectorizer's own final render is made only for --debug-dir.
   options.final_metrics = !args.debug_dir.empty();
-  VectorizeResult result;
-  std::vector<uint8_t> bytes;
-  Image decoded;  // what a reader of bytes gets
-  ImageMetrics file_metrics;  // of decoded: FileQuality
-  double file_psnr = 0;
-  bool reached = true;
-  std::string note;
+  StatusOr<VectorizedFile> made = VectorizeToFile(raster, mask_ptr, options, compress, target, rate, output);
+  if (!made.ok()) return Status(made.status().code(), input + ": " + made.status().message());
+  VectorizeResult& result = made->vectorized;
+  const std::vector<uint8_t>& bytes = made->bytes;
+  const bool reached = made->reached;
+  const std::string& note = made->note;
   nlohmann::json rate_report;
-  auto named = [&](const Status& s) { return s.ok() ? s : Status(s.code(), input + ": " + s.message()); };
-  // The file's metrics, their time counted in the report's metrics phase.
-  auto measure_file = [&]() -> Status {
-    const Clock::time_point start = Clock::now();
-    SDVI_ASSIGN_OR_RETURN(file_metrics, FileQuality(decoded, raster, options.threads));
-    const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    result.report.seconds.metrics += seconds;
-    result.report.seconds.total += seconds;
-    return Status::Ok();
-  };
-  if (compress) {
-    RateResult compressed;
-    if (has_quality || has_bytes || options.target_psnr > 0) {
-      if (options.target_psnr > 0) target.psnr = options.target_psnr;
-      StatusOr<TargetResult> t = VectorizeForTarget(raster, mask_ptr, options, target, rate);
-      if (!t.ok()) return named(t.status());
-      result = std::move(t->vectorized);
-      compressed = std::move(t->file);
-      reached = t->reached;
-      note = t->note;
-      rate_report["vectorize_runs"] = t->vectorize_runs;
-    } else {
-      StatusOr<VectorizeResult> v = sdvi::Vectorize(raster, mask_ptr, options);
-      if (!v.ok()) return named(v.status());
-      result = std::move(*v);
-      StatusOr<RateResult> c = CompressForRate(result, raster, mask_ptr, options.fit, rate);
-      if (!c.ok()) return named(c.status());
-      compressed = std::move(*c);
-    }
-    bytes = std::move(compressed.file);
-    decoded = std::move(compressed.decoded);
-    file_psnr = compressed.psnr;
-    SDVI_RETURN_IF_ERROR(measure_file());
-    rate_report["position_bits"] = compressed.position_bits;
-    rate_report["color_bits"] = compressed.color_bits;
-    rate_report["colors_refitted"] = compressed.colors_refitted;
-    rate_report["mended_vertices"] = compressed.mended_vertices;
-    rate_report["colors_decorrelated"] = compressed.colors_decorrelated;
-    rate_report["slope_db"] = compressed.slope_db;
-    rate_report["candidates"] = compressed.evaluations;
-  } else {
-    StatusOr<VectorizeResult> v = sdvi::Vectorize(raster, mask_ptr, options);
-    if (!v.ok()) return named(v.status());
-    result = std::move(*v);
-    SDVI_ASSIGN_OR_RETURN(bytes, EncodeImage(result.image, nullptr, output));
-    SDVI_ASSIGN_OR_RETURN(decoded, DecodeImage(bytes, output));
-    SDVI_RETURN_IF_ERROR(measure_file());
-    file_psnr = file_metrics.psnr;
-    if (options.target_psnr > 0 && file_psnr < options.target_psnr) {
-      reached = false;
-      char buf[160];
-      std::snprintf(buf, sizeof buf, "target PSNR %.2f dB not reached: the file has %.2f dB (%u vertices); raise "
-                    "the budget (--compression-ratio lower, --iterations higher)",
-                    options.target_psnr, file_psnr, unsigned(result.image.vertices.size()));
-      note = buf;
-    }
+  if (made->compressed) {
+    const RateResult& c = made->choices;
+    if (has_quality || has_bytes || options.target_psnr > 0) rate_report["vectorize_runs"] = made->vectorize_runs;
+    rate_report["position_bits"] = c.position_bits;
+    rate_report["color_bits"] = c.color_bits;
+    rate_report["colors_refitted"] = c.colors_refitted;
+    rate_report["mended_vertices"] = c.mended_vertices;
+    rate_report["colors_decorrelated"] = c.colors_decorrelated;
+    rate_report["slope_db"] = c.slope_db;
+    rate_report["candidates"] = c.evaluations;
   }
   result.report.seconds.load = load_seconds;
   const double fit_psnr = result.report.fit_psnr;
-  result.report.psnr = file_psnr;
-  result.report.mssim = file_metrics.mssim;
-  result.report.mean_error = file_metrics.mean_error;
   if (!reached) {
     if (args.strict) return Status(StatusCode::kLimitExceeded, input + ": " + note + "; nothing written");
     std::fprintf(stderr, "sdvi vectorize: warning: %s: %s\n", input.c_str(), note.c_str());

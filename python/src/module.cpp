@@ -178,54 +178,32 @@ py::tuple VectorizePy(const Source& source, std::optional<std::string> output,
   options.iterations = iterations;
   options.threads = threads > 0 ? threads : DefaultThreads();
   options.fit.threads = options.threads;
-  options.final_metrics = false;  // the file is measured below, as by the command
+  options.final_metrics = false;  // the file is measured, as by the command
   compress = compress || quality >= 0 || target_bytes > 0;  // targets imply compress, as in the CLI
   const std::string name =
       std::holds_alternative<std::string>(source) ? std::get<std::string>(source) : std::string("array");
   auto named = [&](const Status& s) { Raise(Status(s.code(), name + ": " + s.message())); };
-  VectorizeResult result;
-  double fit_psnr = 0;
+  VectorizedFile made;
   {
     py::gil_scoped_release release;
     RateOptions rate;
     rate.threads = options.threads;
-    if (compress && targets > 0) {
-      // As `sdvi vectorize --quality | --target-bytes | --target-psnr --compress`.
-      RateTarget target;
-      target.quality = quality;
-      target.bytes = target_bytes;
-      target.psnr = target_psnr;
-      StatusOr<TargetResult> t = VectorizeForTarget(raster, mask_ptr, options, target, rate);
-      if (!t.ok()) named(t.status());
-      result = std::move(t->vectorized);
-      fit_psnr = result.report.fit_psnr;
-      if (output) Check(WriteFileAtomic(*output, t->file.file));
-      result.image = std::move(t->file.decoded);
-    } else {
-      StatusOr<VectorizeResult> done = Vectorize(raster, mask_ptr, options);
-      if (!done.ok()) named(done.status());
-      result = std::move(done).value();
-      fit_psnr = result.report.fit_psnr;
-      if (compress) {
-        // As `sdvi vectorize --compress`: quantisation chosen by rate-distortion, colours
-        // refitted on the quantised positions; the image returned is what a reader gets.
-        RateResult compressed = Take(CompressForRate(result, raster, mask_ptr, options.fit, rate));
-        if (output) Check(WriteFileAtomic(*output, compressed.file));
-        result.image = std::move(compressed.decoded);
-      } else {
-        // As `sdvi vectorize`: the file's image is what a reader gets (canonical form).
-        const std::vector<uint8_t> bytes = Take(EncodeImage(result.image, nullptr, name));
-        result.image = Take(DecodeImage(bytes, name));
-        if (output) Check(WriteFileAtomic(*output, bytes));
-      }
-    }
-    // The report's PSNR, MSSIM and mean error: the file's (spec/RATE.md 1).
-    const ImageMetrics file = Take(FileQuality(result.image, raster, options.threads));
-    result.report.psnr = file.psnr;
-    result.report.mssim = file.mssim;
-    result.report.mean_error = file.mean_error;
+    RateTarget target;
+    target.quality = quality;
+    target.bytes = target_bytes;
+    // The one path of `sdvi vectorize` (VectorizeToFile): the image returned is what a reader
+    // of the file gets, the report's PSNR, MSSIM and mean error the file's (spec/RATE.md 1).
+    StatusOr<VectorizedFile> done = VectorizeToFile(raster, mask_ptr, options, compress, target, rate, name);
+    if (!done.ok()) named(done.status());
+    made = std::move(done).value();
+    if (output) Check(WriteFileAtomic(*output, made.bytes));
   }
-  return py::make_tuple(std::move(result.image), ReportDict(result.report, fit_psnr));
+  py::dict report = ReportDict(made.vectorized.report, made.vectorized.report.fit_psnr);
+  if (targets > 0) {
+    report["target_reached"] = made.reached;
+    if (!made.reached) report["target_note"] = made.note;
+  }
+  return py::make_tuple(std::move(made.decoded), report);
 }
 
 // The viewport of `sdvi render` for --scale, or --width/--height (one side keeps the aspect).
@@ -422,7 +400,9 @@ PYBIND11_MODULE(_sdvi, m) {
         py::arg("target_psnr") = 0.0, py::arg("iterations") = 8, py::arg("threads") = 0,
         py::arg("compress") = false, py::arg("quality") = -1.0, py::arg("target_bytes") = 0,
         "Vectorizes an image file or array; writes output (.sdvi) when given, exactly as "
-        "`sdvi vectorize SOURCE -o OUTPUT` does. Returns (Image, report dict).");
+        "`sdvi vectorize SOURCE -o OUTPUT` does. Returns (Image, report dict): the image a reader "
+        "of the file gets and the file's PSNR, MSSIM and mean error; with a target (quality, "
+        "target_bytes, target_psnr) also target_reached and, when missed, target_note.");
   m.def("render", &RenderPy, py::arg("source"), py::arg("output") = py::none(), py::kw_only(),
         py::arg("scale") = 1.0, py::arg("width") = 0, py::arg("height") = 0, py::arg("levels") = -1,
         py::arg("threads") = 0, py::arg("bits") = 8,

@@ -4,6 +4,7 @@
 #include "sdvi/rate.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 
@@ -191,6 +192,15 @@ double BudgetForQuality(double quality) {
   return 400.0 * std::pow(0.01, std::clamp(quality, 0.0, 100.0) / 100.0);
 }
 
+// Why a PSNR target was missed, for the warning and the report.
+static std::string PsnrNotReached(double target_psnr, double file_psnr, const Image& image) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "target PSNR %.2f dB not reached: the file has %.2f dB (%u vertices); raise "
+                "the budget (--compression-ratio lower, --iterations higher)",
+                target_psnr, file_psnr, unsigned(image.vertices.size()));
+  return buf;
+}
+
 StatusOr<TargetResult> VectorizeForTarget(const Raster& source, const Raster* mask, const VectorizeOptions& options,
                                           const RateTarget& target, const RateOptions& rate) {
   const int set = (target.quality >= 0) + (target.bytes > 0) + (target.psnr > 0);
@@ -256,11 +266,53 @@ StatusOr<TargetResult> VectorizeForTarget(const Raster& source, const Raster* ma
     aim += target.psnr - out.file.psnr + 0.05;
   }
   out.reached = false;
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "target PSNR %.2f dB not reached: the file has %.2f dB (%u vertices); raise "
-                "the budget (--compression-ratio lower, --iterations higher)",
-                target.psnr, out.file.psnr, unsigned(out.vectorized.image.vertices.size()));
-  out.note = buf;
+  out.note = PsnrNotReached(target.psnr, out.file.psnr, out.vectorized.image);
+  return out;
+}
+
+StatusOr<VectorizedFile> VectorizeToFile(const Raster& source, const Raster* mask, const VectorizeOptions& options,
+                                         bool compress, const RateTarget& target, const RateOptions& rate,
+                                         const std::string& name) {
+  RateTarget wanted = target;
+  if (compress && options.target_psnr > 0) wanted.psnr = options.target_psnr;  // met by the compressed file
+  const bool has_target = wanted.quality >= 0 || wanted.bytes > 0 || wanted.psnr > 0;
+  VectorizedFile out;
+  RateResult compressed;
+  if (has_target) {
+    SDVI_ASSIGN_OR_RETURN(TargetResult t, VectorizeForTarget(source, mask, options, wanted, rate));
+    out.vectorized = std::move(t.vectorized);
+    compressed = std::move(t.file);
+    out.reached = t.reached;
+    out.note = std::move(t.note);
+    out.vectorize_runs = t.vectorize_runs;
+  } else {
+    SDVI_ASSIGN_OR_RETURN(out.vectorized, Vectorize(source, mask, options));
+    if (compress) {
+      SDVI_ASSIGN_OR_RETURN(compressed, CompressForRate(out.vectorized, source, mask, options.fit, rate));
+    }
+  }
+  out.compressed = has_target || compress;
+  if (out.compressed) {
+    out.bytes = std::move(compressed.file);
+    out.decoded = std::move(compressed.decoded);
+    out.choices = std::move(compressed);
+  } else {
+    SDVI_ASSIGN_OR_RETURN(out.bytes, EncodeImage(out.vectorized.image, nullptr, name));
+    SDVI_ASSIGN_OR_RETURN(out.decoded, DecodeImage(out.bytes, name));
+  }
+  const auto start = std::chrono::steady_clock::now();
+  SDVI_ASSIGN_OR_RETURN(const ImageMetrics file, FileQuality(out.decoded, source, options.threads));
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  VectorizeReport& report = out.vectorized.report;
+  report.seconds.metrics += seconds;
+  report.seconds.total += seconds;
+  report.psnr = file.psnr;
+  report.mssim = file.mssim;
+  report.mean_error = file.mean_error;
+  if (!has_target && options.target_psnr > 0 && file.psnr < options.target_psnr) {
+    out.reached = false;
+    out.note = PsnrNotReached(options.target_psnr, file.psnr, out.vectorized.image);
+  }
   return out;
 }
 

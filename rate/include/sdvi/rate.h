@@ -122,4 +122,29 @@ StatusOr<TargetResult> VectorizeForTarget(const Raster& source, const Raster* ma
                                           const VectorizeOptions& options, const RateTarget& target,
                                           const RateOptions& rate);
 
+// ---- The file `sdvi vectorize` writes (spec/RATE.md 1) ----------------------------------
+
+struct VectorizedFile {
+  // The fit; its report's psnr, mssim and mean_error are the file's (FileQuality of decoded,
+  // what `sdvi compare FILE.sdvi SOURCE` prints), their time in seconds.metrics and .total.
+  VectorizeResult vectorized;
+  std::vector<uint8_t> bytes;  // the .sdvi file: raw payload, or Draco when compressed
+  Image decoded;               // what a reader of bytes gets
+  bool compressed = false;
+  RateResult choices;          // compressed: the choices made (its file and decoded moved out)
+  bool reached = true;         // a target (or VectorizeOptions::target_psnr) was met
+  std::string note;            // why not
+  int vectorize_runs = 1;
+};
+
+// Vectorizes source into the file `sdvi vectorize` writes, the one path of the command and
+// the Python binding: with a target (one of its fields set; with compress,
+// options.target_psnr is one too) VectorizeForTarget, which implies compress; with compress
+// alone Vectorize then CompressForRate; else Vectorize and the raw payload (EncodeImage). The file is then decoded and measured once (FileQuality); the
+// vectorizer's own final render (options.final_metrics) is needed only for debug pictures.
+// name is for messages.
+StatusOr<VectorizedFile> VectorizeToFile(const Raster& source, const Raster* mask, const VectorizeOptions& options,
+                                         bool compress, const RateTarget& target, const RateOptions& rate,
+                                         const std::string& name);
+
 }  // namespace sdvi
