@@ -70,7 +70,7 @@ job() {  # NAME: runs one executable or one command-line test, its log and rc in
   local cli_options=$ASAN_OPTIONS:allocator_may_return_null=1:log_path=$LOGS/asan
   local cli_ubsan=$UBSAN_OPTIONS:log_path=$LOGS/ubsan
   case $t in
-    cli_matrix) ASAN_OPTIONS=$cli_options UBSAN_OPTIONS=$cli_ubsan \
+    cli_matrix) SDVI_SANITIZED=1 ASAN_OPTIONS=$cli_options UBSAN_OPTIONS=$cli_ubsan \
       bash tests/hardening/cli_matrix.sh "$SDVI" "$PWD/tests/data" "$LOGS/$t.work" >"$LOGS/$t.log" 2>&1 || rc=$? ;;
     cli_conventions) ASAN_OPTIONS=$cli_options UBSAN_OPTIONS=$cli_ubsan \
       bash tests/cli/cli_conventions_test.sh "$SDVI" "$LOGS/$t.work" >"$LOGS/$t.log" 2>&1 || rc=$? ;;

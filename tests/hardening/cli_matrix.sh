@@ -118,9 +118,15 @@ cases=$((cases + 1))
   fail "vectorize --max-memory 600M: exit $rc, $(head -1 "$WORK/err.txt")"
 # Under tighter limits the command either finishes or stops cleanly, wherever the limit bites:
 # before, the raster libraries loaded under the limit hung (log4cplus starting its threads)
-# and a worker thread that could not start ended the process (signal 6).
-"$SDVI" sample -o "$WORK/mid.png" --width 3000 --height 3000 >/dev/null || fail "sample 3000x3000"
-for limit in 150M 300M 450M; do
+# and a worker thread that could not start ended the process (signal 6). Not under ASan
+# (scripts/sanitize.sh sets SDVI_SANITIZED): there a refused throwing operator new ends the
+# process instead of throwing std::bad_alloc, wherever the limit happens to bite.
+limits="150M 300M 450M"
+if [ -n "${SDVI_SANITIZED:-}" ]; then limits=""; fi
+if [ -n "$limits" ]; then
+  "$SDVI" sample -o "$WORK/mid.png" --width 3000 --height 3000 >/dev/null || fail "sample 3000x3000"
+fi
+for limit in $limits; do
   cases=$((cases + 1))
   rm -f "$WORK/mid.sdvi"
   timeout 300 "$SDVI" vectorize "$WORK/mid.png" -o "$WORK/mid.sdvi" --max-memory $limit >/dev/null 2>"$WORK/err.txt"; rc=$?
