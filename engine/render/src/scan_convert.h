@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <thread>
+#include <tuple>
 #include <vector>
 
 #include "sdvi/default_init_allocator.h"
@@ -184,33 +185,22 @@ inline void ScanSpans(const TriangleSetup& s, int row0, int row1, Span&& span) {
   // One edge alone on its side spans every row (the long edge); the two on the other side
   // meet at the middle vertex m. Rows above m are bounded by the long edge and the upper
   // short edge only (the lower one holds strictly there: the row's segment is inside the
-  // triangle and away from that edge), rows below by the long and the lower short edge; a
-  // row through m exactly takes both short edges.
+  // triangle and away from that edge), rows below by the long and the lower short edge. On
+  // a row through m both short edges cross the row at m and, being on the same side, have
+  // the same bias: either gives the row's bound; the lower one is taken.
   const bool long_left = n_left == 1;
   const int long_edge = long_left ? lefts[0] : rights[0];
   const int short0 = long_left ? rights[0] : lefts[0], short1 = long_left ? rights[1] : lefts[1];
   const int m = long_edge;  // the vertex opposite the long edge, where the short edges meet
-  const int64_t ym = s.y[m];
   // short0's other end: slot (short0 + 1) % 3 or (short0 + 2) % 3, whichever is not m.
   const int other0 = (short0 + 1) % 3 == m ? (short0 + 2) % 3 : (short0 + 1) % 3;
-  const int upper = s.y[other0] < ym ? short0 : short1, lower = upper == short0 ? short1 : short0;
-  const int64_t jm = CeilDiv(ym - kHalf, kOne);  // first row whose centre is at or below m
-  const bool exact = jm * kOne + kHalf == ym;
-  const int upper_end = int(std::clamp<int64_t>(jm, j0, int64_t(j1) + 1));
-  auto pair = [&](int edge_short, int j_begin, int j_end) {
-    if (long_left) rows(long_edge, edge_short, j_begin, j_end);
-    else rows(edge_short, long_edge, j_begin, j_end);
-  };
-  pair(upper, j0, upper_end);
-  int lower_begin = upper_end;
-  if (exact && jm >= j0 && jm <= j1) {
-    const int j = int(jm);
-    const FloorWalk l = walk_from(long_edge, j), u = walk_from(upper, j), w = walk_from(lower, j);
-    if (long_left) emit(j, l.q, std::min(u.q, w.q));
-    else emit(j, std::max(u.q, w.q), l.q);
-    lower_begin = j + 1;
+  const int upper = s.y[other0] < s.y[m] ? short0 : short1, lower = upper == short0 ? short1 : short0;
+  // The first row whose centre is at or below m.
+  const int jm = int(std::clamp<int64_t>(CeilDiv(s.y[m] - kHalf, kOne), j0, int64_t(j1) + 1));
+  for (const auto& [edge, j_begin, j_end] : {std::tuple{upper, j0, jm}, std::tuple{lower, jm, j1 + 1}}) {
+    if (long_left) rows(long_edge, edge, j_begin, j_end);
+    else rows(edge, long_edge, j_begin, j_end);
   }
-  pair(lower, lower_begin, j1 + 1);
 }
 
 // Calls visit(i, j, e0, e1, e2) for every owned pixel centre of s in rows [row0, row1),
