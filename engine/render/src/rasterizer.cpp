@@ -222,7 +222,7 @@ struct BytePixels {
   // As FloatPixels::DrawSpan, rounded: byte (c + kColourOne / 2) >> kColourBits, saturated
   // to 0..255 (equal to rounding the clamped value, halves up); alpha 255. room: pixels from
   // px to the end of its row (>= n).
-  static void DrawSpan(uint8_t* px, int n, int room, const int32_t v[4], const int32_t step[4]) {
+  static void DrawSpan(uint8_t* px, int n, [[maybe_unused]] int room, const int32_t v[4], const int32_t step[4]) {
 #if defined(__SSE2__)
     // Four pixels a 16-byte store, lane 3 of each holding 255 << kColourBits so that the
     // packs give alpha 255. A span's last block keeps the bytes past its end (a masked
