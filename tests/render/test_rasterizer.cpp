@@ -2,7 +2,9 @@
 // The scan converter on plain triangle meshes: fill rule, barycentrics, folds, coverage.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include "render_meshes.h"
@@ -80,6 +82,52 @@ TEST_CASE("Shared edges and vertices through pixel centres are owned exactly onc
       INFO("pixel " << i << "," << j);
       CHECK(hits[size_t(j) * vp.width + i] == (inside ? 1 : 0));
     }
+}
+
+TEST_CASE("A triangle owns exactly the pixel centres the exact edge test gives it", "[render][fill]") {
+  // Random triangles (corners on the 1/256 grid, so fixed point holds them exactly; some on
+  // pixel centres, some with a horizontal or vertical edge), thin and wide, partly outside
+  // the viewport: MapPixels' spans against every edge function evaluated at every centre.
+  const Viewport vp = Viewport::Identity(37, 29);
+  Lcg rng(91);
+  int triangles = 0;
+  for (int it = 0; it < 3000; ++it) {
+    const double extent = it % 3 == 0 ? 4.0 : it % 3 == 1 ? 40.0 : 400.0;
+    auto coord = [&](double centre) {
+      double v = centre + (rng.Next() - 0.5) * extent;
+      v = std::round(v * 256.0) / 256.0;
+      if (it % 5 == 0) v = std::floor(v) + 0.5;  // on a pixel centre
+      return v;
+    };
+    Image img;
+    for (int k = 0; k < 3; ++k) img.vertices.push_back({float(coord(18)), float(coord(14)), 0, 0, 0});
+    if (it % 7 == 0) img.vertices[1].y = img.vertices[0].y;
+    if (it % 11 == 0) img.vertices[2].x = img.vertices[0].x;
+    img.triangles.push_back({{0, 1, 2}});
+    std::vector<uint8_t> mapped(size_t(vp.width) * vp.height, 0), expected(mapped.size(), 0);
+    for (const PixelSample& s : MapPixels(img.triangles, img.vertices, vp).samples) mapped[s.pixel] = 1;
+    // The rule of sdvi/render.h in 1/256 units: E > 0 inside a positively oriented triangle,
+    // E = 0 owned on a top (dy = 0, dx > 0) or left (dy < 0) edge.
+    int64_t x[3], y[3];
+    for (int k = 0; k < 3; ++k) x[k] = std::llround(img.vertices[k].x * 256.0), y[k] = std::llround(img.vertices[k].y * 256.0);
+    const int64_t area = (x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]);
+    if (area < 0) std::swap(x[1], x[2]), std::swap(y[1], y[2]);
+    if (area != 0) ++triangles;
+    for (int j = 0; j < vp.height && area != 0; ++j)
+      for (int i = 0; i < vp.width; ++i) {
+        bool owned = true;
+        for (int k = 0; k < 3; ++k) {
+          const int a = (k + 1) % 3, b = (k + 2) % 3;
+          const int64_t dx = x[b] - x[a], dy = y[b] - y[a];
+          const int64_t e = dx * (j * 256 + 128 - y[a]) - dy * (i * 256 + 128 - x[a]);
+          owned = owned && (e > 0 || (e == 0 && ((dy == 0 && dx > 0) || dy < 0)));
+        }
+        expected[size_t(j) * vp.width + i] = owned;
+      }
+    INFO("triangle " << it);
+    REQUIRE(mapped == expected);
+  }
+  CHECK(triangles > 2500);
 }
 
 TEST_CASE("Barycentric interpolation reproduces an affine colour field", "[render][interp]") {

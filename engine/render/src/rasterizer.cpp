@@ -173,65 +173,90 @@ inline float Clamp255(double v) { return float(v < 0 ? 0 : v > 255 ? 255 : v); }
 // halves away from zero.
 inline uint8_t Round8(float v) { return uint8_t(int(double(v) + 0.5)); }
 
+// Colour along a span (spec/METHOD.md section 4, item 3): fixed point with kColourBits
+// fraction bits, a value every pixel, the next one the previous plus a constant step.
+constexpr int kColourBits = 16;
+constexpr int32_t kColourOne = int32_t(1) << kColourBits;
+constexpr int32_t kColourTop = 255 * kColourOne;  // 255, the largest colour drawn
+
 // Pixel stores of the two outputs: float RGBA (alpha 0..1) and 8-bit RGBA (alpha 0..255,
 // quantised as Render8 says). Owned(p) is true once a triangle has drawn the pixel; before
-// the domain-edge pass only drawn pixels have a non-zero alpha.
+// the domain-edge pass only drawn pixels have a non-zero alpha. DrawSpan overwrites: the
+// triangles are drawn in decreasing index, so the lowest one owning a pixel writes it last.
+// A span's colours are the fixed-point values v, v + step, v + 2 step, ... (r, g, b in
+// lanes 0..2, lane 3 unused), each clamped to 0..255: the float output stores that value
+// exactly (v / kColourOne, below 2^24), the 8-bit one rounds it, halves up, which is the
+// PNG writer's rule on the float value: the same bytes as the float render quantised.
 struct FloatPixels {
   using Sample = float;
   static bool Owned(const float* p) { return p[3] != 0; }
-  static void Draw(float* p, double r, double g, double b) {
-    p[0] = Clamp255(r), p[1] = Clamp255(g), p[2] = Clamp255(b);
-    p[3] = 1.0f;
-  }
   static void SetColour(float* p, float r, float g, float b) {
     p[0] = Clamp255(r), p[1] = Clamp255(g), p[2] = Clamp255(b);
   }
   static void SetAlpha(float* p, float a) { p[3] = a; }
-  // n pixels from px, colour (r, g, b) at the first and step[] more at each next one; pixels
-  // already drawn are kept (the lowest fine triangle index wins).
-  static void DrawSpan(float* px, int n, double r, double g, double b, const double step[3]) {
-    for (int k = 0; k < n; ++k, px += 4, r += step[0], g += step[1], b += step[2])
-      if (!Owned(px)) Draw(px, r, g, b);
+  static void DrawSpan(float* px, int n, int /*room*/, const int32_t v[4], const int32_t step[4]) {
+    int32_t c[3] = {v[0], v[1], v[2]};
+    for (int k = 0; k < n; ++k, px += 4) {
+      for (int ch = 0; ch < 3; ++ch) {
+        px[ch] = float(std::clamp(c[ch], 0, kColourTop)) * (1.0f / float(kColourOne));
+        c[ch] += step[ch];
+      }
+      px[3] = 1.0f;
+    }
   }
 };
 struct BytePixels {
   using Sample = uint8_t;
   static bool Owned(const uint8_t* p) { return p[3] != 0; }
-  static void Draw(uint8_t* p, double r, double g, double b) {
-    p[0] = Round8(Clamp255(r)), p[1] = Round8(Clamp255(g)), p[2] = Round8(Clamp255(b));
-    p[3] = 255;
-  }
   static void SetColour(uint8_t* p, float r, float g, float b) {
     p[0] = Round8(Clamp255(r)), p[1] = Round8(Clamp255(g)), p[2] = Round8(Clamp255(b));
   }
   static void SetAlpha(uint8_t* p, float a) {
     p[3] = uint8_t(std::round(std::clamp(double(a) * 255.0, 0.0, 255.0)));
   }
-  // As FloatPixels::DrawSpan, each pixel's bytes as Draw writes them.
-  static void DrawSpan(uint8_t* px, int n, double r, double g, double b, const double step[3]) {
+  // As FloatPixels::DrawSpan, rounded: byte (c + kColourOne / 2) >> kColourBits, saturated
+  // to 0..255 (equal to rounding the clamped value, halves up); alpha 255. room: pixels from
+  // px to the end of its row (>= n).
+  static void DrawSpan(uint8_t* px, int n, [[maybe_unused]] int room, const int32_t v[4], const int32_t step[4]) {
 #if defined(__SSE2__)
-    // Draw's steps on (r, g) and (b, 0) in two-lane registers, one 32-bit store a pixel: the
-    // same double sums (one IEEE addition a lane a pixel, as the scalar loop), the clamp as
-    // max(v, 0) then min(., 255) (equal to Clamp255 for every double: -0 gives 0, and a NaN
-    // gives 0 where Clamp255's NaN rounds to byte 0 too), the conversion to float and the
-    // rounding int(double(f) + 0.5) lane by lane.
-    const __m128d zero = _mm_setzero_pd(), top = _mm_set1_pd(255.0), half = _mm_set1_pd(0.5);
-    const __m128d step_rg = _mm_set_pd(step[1], step[0]), step_b = _mm_set_pd(0.0, step[2]);
-    __m128d rg = _mm_set_pd(g, r), bz = _mm_set_pd(0.0, b);
-    for (int k = 0; k < n; ++k, px += 4, rg = _mm_add_pd(rg, step_rg), bz = _mm_add_pd(bz, step_b)) {
-      if (Owned(px)) continue;
-      const __m128 f_rg = _mm_cvtpd_ps(_mm_min_pd(_mm_max_pd(rg, zero), top));
-      const __m128 f_bz = _mm_cvtpd_ps(_mm_min_pd(_mm_max_pd(bz, zero), top));
-      const __m128i i_rg = _mm_cvttpd_epi32(_mm_add_pd(_mm_cvtps_pd(f_rg), half));
-      const __m128i i_bz = _mm_cvttpd_epi32(_mm_add_pd(_mm_cvtps_pd(f_bz), half));
-      const __m128i rgbz = _mm_unpacklo_epi64(i_rg, i_bz);  // r, g, b, 0 as int32 in 0..255
-      const __m128i bytes = _mm_packus_epi16(_mm_packs_epi32(rgbz, rgbz), _mm_setzero_si128());
-      const uint32_t word = uint32_t(_mm_cvtsi128_si32(bytes)) | 0xff000000u;  // alpha 255
-      std::memcpy(px, &word, 4);  // little-endian: r, g, b, alpha
+    // Four pixels a 16-byte store, lane 3 of each holding 255 << kColourBits so that the
+    // packs give alpha 255. A span's last block keeps the bytes past its end (a masked
+    // rewrite of what it read: the row is this thread's), so that the loop runs once for
+    // spans of up to four pixels, most of them: a loop ending after 1..4 pixels at random
+    // mispredicted about once a span.
+    alignas(16) static constexpr int32_t kTake[4][4] = {{0, 0, 0, 0}, {-1, 0, 0, 0}, {-1, -1, 0, 0}, {-1, -1, -1, 0}};
+    // Lane 3 of v and of step is 0: alpha from the constant added.
+    const __m128i d = _mm_loadu_si128(reinterpret_cast<const __m128i*>(step));
+    __m128i c = _mm_add_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(v)),
+                              _mm_set_epi32((255 << kColourBits) + kColourOne / 2, kColourOne / 2, kColourOne / 2,
+                                            kColourOne / 2));
+    for (int k = 0; k < n; k += 4, px += 16, room -= 4) {
+      const __m128i c1 = _mm_add_epi32(c, d), c2 = _mm_add_epi32(c1, d), c3 = _mm_add_epi32(c2, d);
+      const __m128i lo = _mm_packs_epi32(_mm_srai_epi32(c, kColourBits), _mm_srai_epi32(c1, kColourBits));
+      const __m128i hi = _mm_packs_epi32(_mm_srai_epi32(c2, kColourBits), _mm_srai_epi32(c3, kColourBits));
+      const __m128i bytes = _mm_packus_epi16(lo, hi);  // 4 pixels r, g, b, alpha
+      c = _mm_add_epi32(c3, d);
+      if (n - k >= 4) {
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(px), bytes);
+      } else if (room >= 4) {
+        const __m128i take = _mm_load_si128(reinterpret_cast<const __m128i*>(kTake[n - k]));
+        const __m128i old = _mm_loadu_si128(reinterpret_cast<const __m128i*>(px));
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(px), _mm_or_si128(_mm_and_si128(take, bytes), _mm_andnot_si128(take, old)));
+      } else {
+        alignas(16) uint8_t b[16];
+        _mm_store_si128(reinterpret_cast<__m128i*>(b), bytes);
+        std::memcpy(px, b, size_t(n - k) * 4);
+      }
     }
 #else
-    for (int k = 0; k < n; ++k, px += 4, r += step[0], g += step[1], b += step[2])
-      if (!Owned(px)) Draw(px, r, g, b);
+    int32_t c[3] = {v[0], v[1], v[2]};
+    for (int k = 0; k < n; ++k, px += 4) {
+      for (int ch = 0; ch < 3; ++ch) {
+        px[ch] = uint8_t((std::clamp(c[ch], 0, kColourTop) + kColourOne / 2) >> kColourBits);
+        c[ch] += step[ch];
+      }
+      px[3] = 255;
+    }
 #endif
   }
 };
@@ -290,11 +315,90 @@ void AntialiasBoundary(const std::vector<Edge>& boundary, const std::vector<Vert
   }
 }
 
-// Draws the fine triangles into data (RGBA, viewport size) in row bands, then the
-// domain-edge coverage: the body of RenderFineMesh and RenderFineMesh8. data is zeroed
-// already, or (zero_bands) unwritten: then each band zeroes its own rows before drawing
-// them, so that the output's first touch (page faults included) is spread over the threads
-// and each band's pixels are in cache when drawn.
+// The colour of a fine triangle as a plane over the output pixels: value(i, j) = base + i sx +
+// j sy at the centre of pixel (i, j), the barycentric interpolation of its vertices' colours
+// from their fixed-point positions, in double precision, scaled by kColourOne.
+struct ColourPlane {
+  // (r, g, b, 0) in two pairs of doubles.
+  alignas(16) double base[4], sx[4], sy[4];
+  alignas(16) int32_t step[4] = {0, 0, 0, 0};  // sx in fixed point
+  int chunk = kChunk;                          // pixels drawn from one value of the plane
+  // A span's values are recomputed from the plane every kChunk pixels: the rounding of the
+  // step (at most 1/2 of 2^-16 a pixel) stays below 2^-12 of a colour unit.
+  static constexpr int kChunk = 16;
+  // |values| <= 2^29 and |steps| <= 2^25 (colours beyond +-8192 and slopes beyond 512 a pixel
+  // are clamped, a NaN taken as the upper limit): no int32 overflows within a chunk. A
+  // steeper plane is evaluated at every pixel.
+  static constexpr double kValueLimit = double(1 << 29), kStepLimit = double(1 << 25);
+
+  ColourPlane(const TriangleSetup& s, const Vertex* const cv[3]) {
+    // E_k(i, j) = a_k i + db_k j + e0_k (exact integers), weight of slot k = E_k / area.
+    double a[3], db[3], e0[3];
+    for (int k = 0; k < 3; ++k) {
+      const int a1 = (k + 1) % 3, a2 = (k + 2) % 3;
+      const int64_t dx = s.x[a2] - s.x[a1], dy = s.y[a2] - s.y[a1];
+      a[k] = double(-dy * kOne), db[k] = double(dx * kOne);
+      e0[k] = double(dx * (kHalf - s.y[a1]) - dy * (kHalf - s.x[a1]));
+    }
+    const double scale = double(kColourOne) / double(s.area);
+    bool steep = false;
+    for (int ch = 0; ch < 3; ++ch) {
+      const float Vertex::*m = ch == 0 ? &Vertex::r : ch == 1 ? &Vertex::g : &Vertex::b;
+      const double c0 = (cv[0]->*m) * scale, c1 = (cv[1]->*m) * scale, c2 = (cv[2]->*m) * scale;
+      base[ch] = e0[0] * c0 + e0[1] * c1 + e0[2] * c2;
+      sx[ch] = a[0] * c0 + a[1] * c1 + a[2] * c2;
+      sy[ch] = db[0] * c0 + db[1] * c1 + db[2] * c2;
+      steep = steep || !(std::abs(sx[ch]) <= kStepLimit);
+    }
+    base[3] = sx[3] = sy[3] = 0;
+    Round(sx, kStepLimit, step);
+    if (steep) chunk = 1;
+  }
+  // out[c] = v[c] rounded to the nearest integer (halves to even), clamped to +-limit, c < 4.
+  static void Round(const double v[4], double limit, int32_t out[4]) {
+#if defined(__SSE2__)
+    // The conversion rounds to nearest, halves to even; min then max take a NaN to +limit.
+    const __m128d hi = _mm_set1_pd(limit), lo = _mm_set1_pd(-limit);
+    const __m128i rg = _mm_cvtpd_epi32(_mm_max_pd(_mm_min_pd(_mm_load_pd(v), hi), lo));
+    const __m128i b0 = _mm_cvtpd_epi32(_mm_max_pd(_mm_min_pd(_mm_load_pd(v + 2), hi), lo));
+    _mm_store_si128(reinterpret_cast<__m128i*>(out), _mm_unpacklo_epi64(rg, b0));
+#else
+    for (int c = 0; c < 4; ++c)
+      out[c] = int32_t(std::nearbyint(v[c] != v[c] || v[c] > limit ? limit : v[c] < -limit ? -limit : v[c]));
+#endif
+  }
+  // Calls draw(i, n, value, step) for pixels i .. i + n - 1 of row j, chunk by chunk over
+  // [i_begin, i_end].
+  template <typename Draw>
+  void Spans(int j, int i_begin, int i_end, Draw&& draw) const {
+    alignas(16) int32_t value[4];
+#if defined(__SSE2__)
+    // Round inlined, the values kept in registers.
+    const __m128d hi = _mm_set1_pd(kValueLimit), lo = _mm_set1_pd(-kValueLimit), jj = _mm_set1_pd(double(j));
+    const __m128d sx_rg = _mm_load_pd(sx), sx_b = _mm_load_pd(sx + 2);
+    const __m128d row_rg = _mm_add_pd(_mm_load_pd(base), _mm_mul_pd(jj, _mm_load_pd(sy)));
+    const __m128d row_b = _mm_add_pd(_mm_load_pd(base + 2), _mm_mul_pd(jj, _mm_load_pd(sy + 2)));
+    for (int i = i_begin;; i += chunk) {
+      const __m128d ii = _mm_set1_pd(double(i));
+      const __m128d at_rg = _mm_add_pd(row_rg, _mm_mul_pd(ii, sx_rg)), at_b = _mm_add_pd(row_b, _mm_mul_pd(ii, sx_b));
+      const __m128i rg = _mm_cvtpd_epi32(_mm_max_pd(_mm_min_pd(at_rg, hi), lo));
+      const __m128i b0 = _mm_cvtpd_epi32(_mm_max_pd(_mm_min_pd(at_b, hi), lo));
+      _mm_store_si128(reinterpret_cast<__m128i*>(value), _mm_unpacklo_epi64(rg, b0));
+#else
+    for (int i = i_begin;; i += chunk) {
+      alignas(16) double at[4];
+      for (int c = 0; c < 4; ++c) at[c] = base[c] + double(j) * sy[c] + double(i) * sx[c];
+      Round(at, kValueLimit, value);
+#endif
+      if (i_end - i < chunk) return draw(i, i_end - i + 1, value, step);
+      draw(i, chunk, value, step);
+    }
+  }
+};
+
+// Triangles ahead of the one drawn whose data is prefetched.
+constexpr uint32_t kPrefetchAhead = 8;
+
 template <typename Pixels>
 void DrawFineMesh(const std::vector<Triangle>& triangles, const std::vector<Vertex>& fine, const Viewport& viewport,
                   const std::vector<Edge>* boundary, int threads, bool zero_bands, typename Pixels::Sample* data) {
@@ -314,26 +418,27 @@ void DrawFineMesh(const std::vector<Triangle>& triangles, const std::vector<Vert
     else
       for (const char* p = band_begin; p < band_end; p += 64) __builtin_prefetch(p, 1);
     TriangleSetup s;
-    for (uint32_t k = bins.offsets[size_t(band)]; k < bins.offsets[size_t(band) + 1]; ++k) {
+    // Decreasing index, each span overwriting what it covers: the lowest fine triangle owning
+    // a pixel is the last to write it (folded triangles), with no per-pixel test.
+    const uint32_t first = bins.offsets[size_t(band)];
+    for (uint32_t k = bins.offsets[size_t(band) + 1]; k-- > first;) {
+      // The vertex data of the triangles drawn next requested ahead: each triangle's are
+      // dependent loads (list, triangle, vertices) that miss the cache in no order, and a
+      // triangle's work is too long for the processor to reach the next one's loads itself.
+      if (k >= first + 2 * kPrefetchAhead) __builtin_prefetch(&triangles[bins.triangles[k - 2 * kPrefetchAhead]]);
+      if (k >= first + kPrefetchAhead) {
+        const auto& w = triangles[bins.triangles[k - kPrefetchAhead]].v;
+        for (int m = 0; m < 3; ++m) __builtin_prefetch(&pts[w[m]]), __builtin_prefetch(&fine[w[m]]);
+      }
       const uint32_t t = bins.triangles[k];
       const auto& v = triangles[t].v;
       if (!SetupTriangle(pts[v[0]], pts[v[1]], pts[v[2]], width, viewport.height, s)) continue;  // binned: true
-      const double inv_area = 1.0 / double(s.area);
       const Vertex* cv[3] = {&fine[v[s.slot[0]]], &fine[v[s.slot[1]]], &fine[v[s.slot[2]]]};
-      // Colour is affine in the pixel index along a row: exact weights at the span start,
-      // then a constant step per pixel.
-      double step[3];
-      for (int ch = 0; ch < 3; ++ch) {
-        const float Vertex::*m = ch == 0 ? &Vertex::r : ch == 1 ? &Vertex::g : &Vertex::b;
-        step[ch] = (double(StepX(s, 0)) * (cv[0]->*m) + double(StepX(s, 1)) * (cv[1]->*m) +
-                    double(StepX(s, 2)) * (cv[2]->*m)) * inv_area;
-      }
-      ScanSpans(s, row0, row1, [&](int j, int i_begin, int i_end, const int64_t* e) {
-        const double w0 = double(e[0]) * inv_area, w1 = double(e[1]) * inv_area, w2 = double(e[2]) * inv_area;
-        double r = w0 * cv[0]->r + w1 * cv[1]->r + w2 * cv[2]->r;
-        double g = w0 * cv[0]->g + w1 * cv[1]->g + w2 * cv[2]->g;
-        double b = w0 * cv[0]->b + w1 * cv[1]->b + w2 * cv[2]->b;
-        Pixels::DrawSpan(data + (size_t(j) * width + i_begin) * 4, i_end - i_begin + 1, r, g, b, step);
+      const ColourPlane plane(s, cv);
+      ScanSpans(s, row0, row1, [&](int j, int i_begin, int i_end, const int64_t*) {
+        plane.Spans(j, i_begin, i_end, [&](int i, int n, const int32_t* c, const int32_t* step) {
+          Pixels::DrawSpan(data + (size_t(j) * width + i) * 4, n, width - i, c, step);
+        });
       });
     }
   });

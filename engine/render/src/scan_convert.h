@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <thread>
+#include <tuple>
 #include <vector>
 
 #include "sdvi/default_init_allocator.h"
@@ -107,37 +108,99 @@ inline bool SetupTriangle(const FixedPoint& a, const FixedPoint& b, const FixedP
 // (i_begin, j), and E_k grows by StepX(s, k) per pixel to the right.
 inline int64_t StepX(const TriangleSetup& s, int k) { return -(s.y[(k + 2) % 3] - s.y[(k + 1) % 3]) * kOne; }
 
+// floor(m / p) for m = m0, m0 + step, m0 + 2 step, ... (p > 0), with its remainder carried
+// from row to row: exact, and two integer divisions an edge instead of one a row.
+struct FloorWalk {
+  int64_t q, r, dq, dr, p;  // m = q * p + r, 0 <= r < p; step = dq * p + dr, 0 <= dr < p
+  FloorWalk(int64_t m0, int64_t step, int64_t divisor) : p(divisor) {
+    Divide(m0, q, r);
+    Divide(step, dq, dr);
+  }
+  // Floor division by p with its remainder, without a branch on the sign.
+  void Divide(int64_t m, int64_t& quotient, int64_t& remainder) const {
+    quotient = m / p, remainder = m % p;  // truncated
+    const int64_t borrow = remainder < 0;
+    quotient -= borrow;
+    remainder += p & -borrow;
+  }
+  // Branch-free: the carry is data-dependent, a mispredicted branch a row cost more than the
+  // divisions it replaces.
+  void Next() {
+    r += dr;
+    const int64_t carry = r >= p;
+    q += dq + carry;
+    r -= p & -carry;
+  }
+};
+
 template <typename Span>
 inline void ScanSpans(const TriangleSetup& s, int row0, int row1, Span&& span) {
   const int j0 = std::max(s.j0, row0), j1 = std::min(s.j1, row1 - 1);
   if (j0 > j1) return;
-  // E_k(i, j) = a[k] * i + dx[k] * (j * kOne + kHalf - y1[k]) + c[k], exact in int64.
-  int64_t a[3], dx[3], y1[3], c[3];
+  // E_k(i, j) = a[k] * i + b[k] + (j - j0) * db[k], exact in int64. Pixel i of row j is on
+  // the owned side of edge k iff E_k + bias[k] >= 0: for a[k] > 0 (a left edge) iff
+  // i >= ceil(-(b + bias) / a) = floor((a - 1 - b - bias) / a), for a[k] < 0 (a right edge)
+  // iff i <= floor((b + bias) / -a); each bound walks down the rows (FloorWalk).
+  int64_t a[3], b[3], db[3];
   for (int k = 0; k < 3; ++k) {
     const int a1 = (k + 1) % 3, a2 = (k + 2) % 3;
-    dx[k] = s.x[a2] - s.x[a1];
-    const int64_t dy = s.y[a2] - s.y[a1];
+    const int64_t dx = s.x[a2] - s.x[a1], dy = s.y[a2] - s.y[a1];
     a[k] = -dy * kOne;
-    y1[k] = s.y[a1];
-    c[k] = -dy * (kHalf - s.x[a1]);
+    db[k] = dx * kOne;
+    b[k] = dx * (int64_t(j0) * kOne + kHalf - s.y[a1]) - dy * (kHalf - s.x[a1]);
   }
-  for (int j = j0; j <= j1; ++j) {
-    const int64_t py = int64_t(j) * kOne + kHalf;
-    int64_t lo = s.i0, hi = s.i1;
-    int64_t b[3];
-    for (int k = 0; k < 3; ++k) {
-      b[k] = dx[k] * (py - y1[k]) + c[k];  // E_k at i = 0
-      const int64_t t = b[k] + s.bias[k];  // owned iff a[k] * i + t >= 0
-      if (a[k] > 0)
-        lo = std::max(lo, CeilDiv(-t, a[k]));
-      else if (a[k] < 0)
-        hi = std::min(hi, FloorDiv(t, -a[k]));
-      else if (t < 0)
-        lo = hi + 1;
-    }
-    if (lo > hi) continue;
-    const int64_t e[3] = {a[0] * lo + b[0], a[1] * lo + b[1], a[2] * lo + b[2]};
+  auto walk_from = [&](int k, int j) {  // edge k's bound from row j on
+    const int64_t t = b[k] + int64_t(j - j0) * db[k] + s.bias[k];
+    return a[k] > 0 ? FloorWalk(a[k] - 1 - t, -db[k], a[k]) : FloorWalk(t, db[k], -a[k]);
+  };
+  auto emit = [&](int j, int64_t lo, int64_t hi) {
+    lo = std::max<int64_t>(lo, s.i0), hi = std::min<int64_t>(hi, s.i1);
+    if (lo > hi) return;
+    const int64_t dj = j - j0;
+    const int64_t e[3] = {a[0] * lo + b[0] + dj * db[0], a[1] * lo + b[1] + dj * db[1], a[2] * lo + b[2] + dj * db[2]};
     span(j, int(lo), int(hi), e);
+  };
+  // Rows [j_begin, j_end) bounded by the left edge l and the right edge r alone.
+  auto rows = [&](int l, int r, int j_begin, int j_end) {
+    if (j_begin >= j_end) return;
+    FloorWalk left = walk_from(l, j_begin), right = walk_from(r, j_begin);
+    for (int j = j_begin; j < j_end; ++j, left.Next(), right.Next()) emit(j, left.q, right.q);
+  };
+  int lefts[3], rights[3], n_left = 0, n_right = 0, flat = -1;
+  for (int k = 0; k < 3; ++k) {
+    if (a[k] > 0) lefts[n_left++] = k;
+    else if (a[k] < 0) rights[n_right++] = k;
+    else flat = k;
+  }
+  if (flat >= 0) {
+    // A horizontal edge is the top or bottom of the box: E_flat > 0 on every row of the box
+    // but its own, which the bias decides.
+    const int64_t on_row = FloorDiv(s.y[(flat + 1) % 3] - kHalf, kOne);  // the edge's row, if a pixel row
+    const bool on_centres = on_row * kOne + kHalf == s.y[(flat + 1) % 3];
+    const bool skip = on_centres && s.bias[flat] < 0;
+    const int skip_row = skip && on_row >= j0 && on_row <= j1 ? int(on_row) : j1 + 1;
+    rows(lefts[0], rights[0], j0, skip_row);
+    rows(lefts[0], rights[0], skip_row + 1, j1 + 1);
+    return;
+  }
+  // One edge alone on its side spans every row (the long edge); the two on the other side
+  // meet at the middle vertex m. Rows above m are bounded by the long edge and the upper
+  // short edge only (the lower one holds strictly there: the row's segment is inside the
+  // triangle and away from that edge), rows below by the long and the lower short edge. On
+  // a row through m both short edges cross the row at m and, being on the same side, have
+  // the same bias: either gives the row's bound; the lower one is taken.
+  const bool long_left = n_left == 1;
+  const int long_edge = long_left ? lefts[0] : rights[0];
+  const int short0 = long_left ? rights[0] : lefts[0], short1 = long_left ? rights[1] : lefts[1];
+  const int m = long_edge;  // the vertex opposite the long edge, where the short edges meet
+  // short0's other end: slot (short0 + 1) % 3 or (short0 + 2) % 3, whichever is not m.
+  const int other0 = (short0 + 1) % 3 == m ? (short0 + 2) % 3 : (short0 + 1) % 3;
+  const int upper = s.y[other0] < s.y[m] ? short0 : short1, lower = upper == short0 ? short1 : short0;
+  // The first row whose centre is at or below m.
+  const int jm = int(std::clamp<int64_t>(CeilDiv(s.y[m] - kHalf, kOne), j0, int64_t(j1) + 1));
+  for (const auto& [edge, j_begin, j_end] : {std::tuple{upper, j0, jm}, std::tuple{lower, jm, j1 + 1}}) {
+    if (long_left) rows(long_edge, edge, j_begin, j_end);
+    else rows(edge, long_edge, j_begin, j_end);
   }
 }
 
