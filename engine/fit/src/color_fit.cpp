@@ -47,6 +47,16 @@ inline void PixelRgb(const Raster& raster, size_t p, double rgb[3]) {
   }
 }
 
+// Index sets of a run of consecutive elements, built by one thread: set k has counts[k]
+// items, in order.
+struct ChunkSets {
+  std::vector<uint32_t> counts;
+  std::vector<uint32_t> items;
+};
+
+// Elements per chunk when per-element index sets are built on the threads.
+constexpr size_t kSetChunk = 2048;
+
 // Flat lists of per-control-triangle index sets: set t = [offsets[t], offsets[t+1]).
 struct IndexSets {
   std::vector<uint32_t> offsets{0};
@@ -54,6 +64,18 @@ struct IndexSets {
   size_t size() const { return offsets.size() - 1; }
   uint32_t count(size_t t) const { return offsets[t + 1] - offsets[t]; }
   const uint32_t* begin(size_t t) const { return items.data() + offsets[t]; }
+  // Appends the chunks' sets in chunk order, releasing each chunk once copied.
+  void Concatenate(std::vector<ChunkSets>& chunks) {
+    size_t sets = 0, total = 0;
+    for (const ChunkSets& c : chunks) sets += c.counts.size(), total += c.items.size();
+    offsets.reserve(offsets.size() + sets);
+    items.reserve(items.size() + total);
+    for (ChunkSets& c : chunks) {
+      for (uint32_t count : c.counts) offsets.push_back(offsets.back() + count);
+      items.insert(items.end(), c.items.begin(), c.items.end());
+      c = ChunkSets();
+    }
+  }
 };
 
 // Scratch memory of one assembly thread.
@@ -66,6 +88,28 @@ struct BlockScratch {
 };
 
 constexpr uint32_t kNoTriangle = ~uint32_t(0);
+
+// Control triangles per chunk of the assembly's blocks (taken in turn by the threads).
+constexpr size_t kBlockChunk = 16;
+
+// Asks for the stencil table's offsets of control triangle t's local fine vertices.
+inline void PrefetchStencilOffsets(const StencilTable& stencils, const IndexSets& local_fine, size_t t) {
+  for (const uint32_t* l = local_fine.begin(t); l != local_fine.begin(t + 1); ++l) {
+    __builtin_prefetch(&stencils.offsets[*l]);
+  }
+}
+
+// Asks for the stencil rows (indices and weights, first and last entries: a row of about 17
+// entries spans one or two cache lines) of control triangle t's local fine vertices.
+inline void PrefetchStencilRows(const StencilTable& stencils, const IndexSets& local_fine, size_t t) {
+  for (const uint32_t* l = local_fine.begin(t); l != local_fine.begin(t + 1); ++l) {
+    const uint32_t k = stencils.offsets[*l], last = stencils.offsets[*l + 1] - 1;
+    __builtin_prefetch(&stencils.indices[k]);
+    __builtin_prefetch(&stencils.weights[k]);
+    __builtin_prefetch(&stencils.indices[last]);
+    __builtin_prefetch(&stencils.weights[last]);
+  }
+}
 
 // Computes A_T = S_T^T F_T S_T (u x u, row-major) and b_T = S_T^T g_T (u x 3) for control
 // triangle t into a_out / b_out. S_T is kept sparse (a stencil row touches about half of
@@ -169,13 +213,16 @@ void ComputeBlock(size_t t, const IndexSets& fine_of_control, const IndexSets& l
 // incomplete Cholesky factor, started from the vertices' current colours (see FitColors and
 // ColorFitOptions::warm_start), to a relative residual of
 // kSolveTolerance; falls back to a sparse LDL^T when CG does not get there within
-// kSolveMaxIterations. Single-threaded, so the result does not depend on the thread count.
+// kSolveMaxIterations. The channels' solves run on up to three threads, each exactly the
+// single-threaded solve, so the result does not depend on the thread count. ordering, when
+// given, is the preconditioner's AMD ordering of matrix's pattern, found beforehand.
 constexpr double kSolveTolerance = 1e-8;
 constexpr int kSolveMaxIterations = 2000;
 
 StatusOr<Eigen::MatrixXd> SolveNormalEquations(const Eigen::SparseMatrix<double>& matrix,
                                                const Eigen::MatrixXd& rhs,
-                                               const std::vector<Vertex>& start) {
+                                               const std::vector<Vertex>& start, int threads,
+                                               fit_internal::PermutedIncompleteCholesky::Permutation* ordering) {
   const Eigen::Index n = matrix.rows();
   Eigen::MatrixXd guess(n, 3);
   for (Eigen::Index i = 0; i < n; ++i) {
@@ -192,15 +239,26 @@ StatusOr<Eigen::MatrixXd> SolveNormalEquations(const Eigen::SparseMatrix<double>
       cg;
   cg.setTolerance(kSolveTolerance);
   cg.setMaxIterations(kSolveMaxIterations);
+  if (ordering != nullptr) cg.preconditioner().PresetOrdering(std::move(*ordering));
   cg.compute(matrix);
   if (cg.info() == Eigen::Success) {
-    Eigen::MatrixXd colors(n, 3);
-    bool converged = true;
-    for (int c = 0; c < 3 && converged; ++c) {
-      colors.col(c) = cg.solveWithGuess(rhs.col(c), guess.col(c));
-      converged = cg.info() == Eigen::Success && colors.col(c).allFinite();
-    }
-    if (converged) return colors;
+    // The three colour channels are three independent solves with the same matrix and
+    // preconditioner: one per thread, each what cg.solveWithGuess computes (the same
+    // expressions: the matrix's transpose as ConjugateGradient reads it, the column blocks
+    // of rhs and colors), so the result does not depend on the thread count.
+    Eigen::MatrixXd colors = guess;
+    const Eigen::Ref<const Eigen::SparseMatrix<double>> ref(matrix);
+    const Eigen::Transpose<const Eigen::Ref<const Eigen::SparseMatrix<double>>> row_major(ref);
+    bool converged[3] = {false, false, false};
+    fit_internal::ForEachChunk(3, 1, threads, [&](size_t c, size_t, size_t) {
+      Eigen::Index iterations = cg.maxIterations();
+      double error = cg.tolerance();
+      auto x = colors.col(Eigen::Index(c));
+      Eigen::internal::conjugate_gradient(row_major, rhs.col(Eigen::Index(c)), x, cg.preconditioner(),
+                                          iterations, error);
+      converged[c] = error <= cg.tolerance() && x.allFinite();
+    });
+    if (converged[0] && converged[1] && converged[2]) return colors;
   }
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
   ldlt.compute(matrix);
@@ -305,39 +363,60 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
   }
 
   // Local fine vertices (first-appearance order) and stencil support U_T (ascending) of
-  // each control triangle.
+  // each control triangle: chunks of triangles on the threads, concatenated in order.
+  const int threads = std::max(1, options.threads);
   IndexSets local_fine, support;
-  local_fine.offsets.reserve(num_control_tris + 1);
-  support.offsets.reserve(num_control_tris + 1);
   {
-    std::vector<uint8_t> seen(num_control, 0);
-    std::vector<uint32_t> lf;
-    for (size_t t = 0; t < num_control_tris; ++t) {
-      lf.clear();
-      for (const uint32_t* ft = fine_of_control.begin(t); ft != fine_of_control.begin(t + 1); ++ft) {
-        for (uint32_t v : surface.triangles[*ft].v) {
-          if (std::find(lf.begin(), lf.end(), v) == lf.end()) lf.push_back(v);
+    const size_t chunks = fit_internal::ChunkCount(num_control_tris, kSetChunk);
+    std::vector<ChunkSets> fine_chunks(chunks), support_chunks(chunks);
+    std::vector<std::vector<uint8_t>> seen_of(threads);
+    fit_internal::ForEachChunkOnWorkers(num_control_tris, kSetChunk, threads,
+                                        [&](size_t worker, size_t chunk, size_t t0, size_t t1) {
+      std::vector<uint8_t>& seen = seen_of[worker];
+      if (seen.empty()) seen.assign(num_control, 0);
+      ChunkSets& lf = fine_chunks[chunk];
+      ChunkSets& sup = support_chunks[chunk];
+      lf.counts.reserve(t1 - t0);
+      sup.counts.reserve(t1 - t0);
+      for (size_t t = t0; t < t1; ++t) {
+        // The triangle's stencil rows lie anywhere in the table: ask for those of the
+        // triangles ahead (their fine vertices are known from the fine triangles).
+        if (t + 4 < t1) {
+          for (const uint32_t* ft = fine_of_control.begin(t + 4); ft != fine_of_control.begin(t + 5); ++ft) {
+            for (uint32_t v : surface.triangles[*ft].v) __builtin_prefetch(&stencils.offsets[v]);
+          }
         }
+        if (t + 2 < t1) {
+          for (const uint32_t* ft = fine_of_control.begin(t + 2); ft != fine_of_control.begin(t + 3); ++ft) {
+            for (uint32_t v : surface.triangles[*ft].v) __builtin_prefetch(&stencils.indices[stencils.offsets[v]]);
+          }
+        }
+        const size_t lf_first = lf.items.size();
+        for (const uint32_t* ft = fine_of_control.begin(t); ft != fine_of_control.begin(t + 1); ++ft) {
+          for (uint32_t v : surface.triangles[*ft].v) {
+            if (std::find(lf.items.begin() + lf_first, lf.items.end(), v) == lf.items.end()) lf.items.push_back(v);
+          }
+        }
+        lf.counts.push_back(uint32_t(lf.items.size() - lf_first));
+        const size_t first = sup.items.size();
+        auto add = [&](uint32_t c) {
+          if (!seen[c]) {
+            seen[c] = 1;
+            sup.items.push_back(c);
+          }
+        };
+        for (uint32_t c : image.triangles[t].v) add(c);
+        for (size_t l = lf_first; l < lf.items.size(); ++l) {
+          const uint32_t v = lf.items[l];
+          for (uint32_t k = stencils.offsets[v]; k < stencils.offsets[v + 1]; ++k) add(stencils.indices[k]);
+        }
+        for (size_t k = first; k < sup.items.size(); ++k) seen[sup.items[k]] = 0;
+        std::sort(sup.items.begin() + first, sup.items.end());
+        sup.counts.push_back(uint32_t(sup.items.size() - first));
       }
-      local_fine.items.insert(local_fine.items.end(), lf.begin(), lf.end());
-      local_fine.offsets.push_back(uint32_t(local_fine.items.size()));
-      const size_t first = support.items.size();
-      auto add = [&](uint32_t c) {
-        if (!seen[c]) {
-          seen[c] = 1;
-          support.items.push_back(c);
-        }
-      };
-      for (uint32_t c : image.triangles[t].v) add(c);
-      for (uint32_t v : lf) {
-        for (uint32_t k = stencils.offsets[v]; k < stencils.offsets[v + 1]; ++k) {
-          add(stencils.indices[k]);
-        }
-      }
-      for (size_t k = first; k < support.items.size(); ++k) seen[support.items[k]] = 0;
-      std::sort(support.items.begin() + first, support.items.end());
-      support.offsets.push_back(uint32_t(support.items.size()));
-    }
+    });
+    local_fine.Concatenate(fine_chunks);
+    support.Concatenate(support_chunks);
   }
 
   // Sparsity pattern of A (symmetric, full): row i holds every j sharing some U_T with i.
@@ -345,8 +424,6 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
   // row-major pattern read as column-major is the same matrix): no second copy is held.
   Eigen::SparseMatrix<double> matrix{Eigen::Index(num_control), Eigen::Index(num_control)};
   {
-    std::vector<int> pattern_starts(num_control + 1, 0);
-    std::vector<int> pattern_columns;
     IndexSets tris_of_control;
     tris_of_control.offsets.assign(num_control + 1, 0);
     for (uint32_t c : support.items) ++tris_of_control.offsets[c + 1];
@@ -358,30 +435,62 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
         tris_of_control.items[cursor[*c]++] = uint32_t(t);
       }
     }
-    std::vector<uint8_t> seen(num_control, 0);
-    std::vector<int> row;
-    for (size_t i = 0; i < num_control; ++i) {
-      row.clear();
-      row.push_back(int(i));  // the diagonal always exists (regulariser)
-      seen[i] = 1;
-      for (const uint32_t* t = tris_of_control.begin(i); t != tris_of_control.begin(i + 1); ++t) {
-        for (const uint32_t* c = support.begin(*t); c != support.begin(*t + 1); ++c) {
-          if (!seen[*c]) {
-            seen[*c] = 1;
-            row.push_back(int(*c));
+    // Rows in chunks on the threads, concatenated in order.
+    const size_t chunks = fit_internal::ChunkCount(num_control, kSetChunk);
+    std::vector<ChunkSets> row_chunks(chunks);
+    std::vector<std::vector<uint8_t>> seen_of(threads);
+    fit_internal::ForEachChunkOnWorkers(num_control, kSetChunk, threads,
+                                        [&](size_t worker, size_t chunk, size_t i0, size_t i1) {
+      std::vector<uint8_t>& seen = seen_of[worker];
+      if (seen.empty()) seen.assign(num_control, 0);
+      ChunkSets& rows = row_chunks[chunk];
+      rows.counts.reserve(i1 - i0);
+      for (size_t i = i0; i < i1; ++i) {
+        const size_t first = rows.items.size();
+        rows.items.push_back(uint32_t(i));  // the diagonal always exists (regulariser)
+        seen[i] = 1;
+        for (const uint32_t* t = tris_of_control.begin(i); t != tris_of_control.begin(i + 1); ++t) {
+          for (const uint32_t* c = support.begin(*t); c != support.begin(*t + 1); ++c) {
+            if (!seen[*c]) {
+              seen[*c] = 1;
+              rows.items.push_back(*c);
+            }
           }
         }
+        for (size_t k = first; k < rows.items.size(); ++k) seen[rows.items[k]] = 0;
+        std::sort(rows.items.begin() + first, rows.items.end());
+        rows.counts.push_back(uint32_t(rows.items.size() - first));
       }
-      for (int c : row) seen[c] = 0;
-      std::sort(row.begin(), row.end());
-      pattern_columns.insert(pattern_columns.end(), row.begin(), row.end());
-      pattern_starts[i + 1] = int(pattern_columns.size());
-    }
-    std::vector<uint8_t>().swap(seen);
+    });
+    seen_of.clear();
     tris_of_control = IndexSets();
-    matrix.resizeNonZeros(Eigen::Index(pattern_columns.size()));
-    std::copy(pattern_starts.begin(), pattern_starts.end(), matrix.outerIndexPtr());
-    std::copy(pattern_columns.begin(), pattern_columns.end(), matrix.innerIndexPtr());
+    size_t nonzeros = 0;
+    for (const ChunkSets& rows : row_chunks) nonzeros += rows.items.size();
+    matrix.resizeNonZeros(Eigen::Index(nonzeros));
+    int* starts = matrix.outerIndexPtr();
+    int* inner = matrix.innerIndexPtr();
+    size_t i = 0, at = 0;
+    starts[0] = 0;
+    for (ChunkSets& rows : row_chunks) {
+      for (uint32_t count : rows.counts) {
+        starts[i + 1] = starts[i] + int(count);
+        ++i;
+      }
+      std::copy(rows.items.begin(), rows.items.end(), inner + at);
+      at += rows.items.size();
+      rows = ChunkSets();
+    }
+  }
+  // The preconditioner's AMD ordering depends on A's pattern alone: with threads, it is found
+  // on a thread of its own while the values are assembled (the same permutation,
+  // fit/src/permuted_ic.h).
+  fit_internal::PermutedIncompleteCholesky::Permutation ordering;
+  BackgroundTask ordering_task;
+  if (threads > 1) {
+    ordering_task.Start([&ordering, &matrix] {
+      ordering = fit_internal::PermutedIncompleteCholesky::Ordering(matrix.rows(), matrix.nonZeros(),
+                                                                    matrix.outerIndexPtr(), matrix.innerIndexPtr());
+    });
   }
   const int* row_start = matrix.outerIndexPtr();
   const int* columns = matrix.innerIndexPtr();
@@ -432,8 +541,7 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
   };
 
   // Blocks in parallel per batch, scattered serially in triangle order.
-  const int threads = std::max(1, options.threads);
-  const size_t batch = 512;  // blocks of one batch stay in cache-sized memory
+  const size_t batch = 2048;  // blocks of one batch: a few megabytes
   std::vector<BlockScratch> scratch(threads);
   for (BlockScratch& s : scratch) s.local_of_control.assign(num_control, -1);
   std::vector<size_t> block_offset(batch + 1);
@@ -446,21 +554,20 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
       block_offset[t - t0 + 1] = block_offset[t - t0] + u * u + u * 3;
     }
     blocks.resize(block_offset[t1 - t0]);
-    auto work = [&](int id) {
-      const size_t n = t1 - t0;
-      const size_t lo = t0 + n * id / threads, hi = t0 + n * (id + 1) / threads;
-      for (size_t t = lo; t < hi; ++t) {
+    // Dynamic chunks of a few triangles: a block's cost follows its pixels and support.
+    fit_internal::ForEachChunkOnWorkers(t1 - t0, kBlockChunk, threads,
+                                        [&](size_t worker, size_t, size_t lo, size_t hi) {
+      for (size_t t = t0 + lo; t < t0 + hi; ++t) {
+        // The stencil rows of the next triangles lie anywhere in the table: ask for the
+        // offsets four triangles ahead and the rows two ahead (fit/src/prefetch.h).
+        if (t + 4 < t1) PrefetchStencilOffsets(stencils, local_fine, t + 4);
+        if (t + 2 < t1) PrefetchStencilRows(stencils, local_fine, t + 2);
         const size_t u = support.count(t);
         double* a = blocks.data() + block_offset[t - t0];
         ComputeBlock(t, fine_of_control, local_fine, support, surface.triangles, sample_offsets,
-                     samples, sample_order, target, stencils, scratch[id], a, a + u * u);
+                     samples, sample_order, target, stencils, scratch[worker], a, a + u * u);
       }
-    };
-    if (threads == 1 || t1 - t0 < 64) {
-      for (int id = 0; id < threads; ++id) work(id);
-    } else {
-      RunTasks(threads, work);
-    }
+    });
     // Scatter: each thread owns a range of rows of A and adds the blocks' rows in triangle
     // order, so every entry is summed in the same order for any thread count.
     auto scatter = [&](int id) {
@@ -544,7 +651,9 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
       v.r = float(rgb[0]), v.g = float(rgb[1]), v.b = float(rgb[2]);
     }
   }
-  SDVI_ASSIGN_OR_RETURN(const Eigen::MatrixXd colors, SolveNormalEquations(matrix, rhs, image.vertices));
+  ordering_task.Wait();
+  SDVI_ASSIGN_OR_RETURN(const Eigen::MatrixXd colors,
+                        SolveNormalEquations(matrix, rhs, image.vertices, threads, threads > 1 ? &ordering : nullptr));
   for (size_t i = 0; i < num_control; ++i) {
     image.vertices[i].r = float(colors(Eigen::Index(i), 0));
     image.vertices[i].g = float(colors(Eigen::Index(i), 1));

@@ -308,15 +308,22 @@ int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int p
     double after0, after1;
   };
   constexpr size_t kChunk = 256;
+  constexpr size_t kPairChunk = 4096;  // edges a thread tests at a time
   // The interior edges and their two triangles (lower index first), kept up to date by the
   // flips: the first sweep finds them by sorting every triangle's sides, a later one lists
   // only the edges of the triangles the previous sweep changed, in the same (edge) order.
   auto edge_key = [](const Edge& e) { return (uint64_t(e.a) << 32) | e.b; };
   std::unordered_map<uint64_t, std::array<uint32_t, 2>> edge_triangles;
   for (int pass = 0; pass < passes; ++pass) {
-    // The edges a sweep may flip, by the geometry at the sweep's start.
-    std::vector<Candidate> candidates;
-    auto consider = [&](const Edge& e, uint32_t t0, uint32_t t1) {
+    // The edges a sweep may flip, by the geometry at the sweep's start: the sweep's interior
+    // edges (with their triangles) are listed in edge order, then tested on the threads in
+    // fixed chunks and the candidates gathered in that order.
+    struct Pair {
+      Edge e;
+      uint32_t t0, t1;
+    };
+    std::vector<Pair> pairs;
+    auto consider = [&](const Edge& e, uint32_t t0, uint32_t t1, std::vector<Candidate>& candidates) {
       if (!(changed[t0] || changed[t1])) return;
       if (std::binary_search(creases.begin(), creases.end(), e)) return;
       auto opposite = [&](uint32_t t) {
@@ -361,7 +368,7 @@ int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int p
         const uint32_t t0 = sides[i].t, t1 = sides[i + 1].t;
         ++i;
         edge_triangles[edge_key(e)] = {t0, t1};
-        consider(e, t0, t1);
+        pairs.push_back({e, t0, t1});
       }
     } else {
       std::vector<Edge> edges;
@@ -377,7 +384,22 @@ int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int p
       edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
       for (const Edge& e : edges) {
         const std::array<uint32_t, 2>& t = edge_triangles.at(edge_key(e));
-        consider(e, t[0], t[1]);
+        pairs.push_back({e, t[0], t[1]});
+      }
+    }
+    std::vector<std::vector<Candidate>> chunk_candidates(fit_internal::ChunkCount(pairs.size(), kPairChunk));
+    fit_internal::ForEachChunk(pairs.size(), kPairChunk, threads, [&](size_t chunk, size_t k0, size_t k1) {
+      for (size_t k = k0; k < k1; ++k) consider(pairs[k].e, pairs[k].t0, pairs[k].t1, chunk_candidates[chunk]);
+    });
+    std::vector<Pair>().swap(pairs);
+    std::vector<Candidate> candidates;
+    {
+      size_t total = 0;
+      for (const std::vector<Candidate>& c : chunk_candidates) total += c.size();
+      candidates.reserve(total);
+      for (std::vector<Candidate>& c : chunk_candidates) {
+        candidates.insert(candidates.end(), c.begin(), c.end());
+        std::vector<Candidate>().swap(c);
       }
     }
     // Errors of the candidates' triangles not known yet, then of the flipped pairs.

@@ -14,32 +14,41 @@
 
 namespace sdvi::fit_internal {
 
-// Calls body(chunk, begin, end) for chunk = 0 .. ceil(count / chunk_size) - 1, covering
-// [0, count) in pieces of chunk_size items, on up to `threads` threads (chunks taken in
-// turn from a shared counter; sdvi::RunTasks). An exception thrown by body (std::bad_alloc,
+// Calls body(worker, chunk, begin, end) for chunk = 0 .. ceil(count / chunk_size) - 1,
+// covering [0, count) in pieces of chunk_size items, on up to `threads` threads (chunks
+// taken in turn from a shared counter; sdvi::RunTasks); worker (0 .. threads - 1) names the
+// thread, for per-thread scratch. An exception thrown by body (std::bad_alloc,
 // cv::Exception) stops the hand-out of chunks and is thrown again on the calling thread
 // after the join.
 template <typename Body>
-void ForEachChunk(size_t count, size_t chunk_size, int threads, Body&& body) {
+void ForEachChunkOnWorkers(size_t count, size_t chunk_size, int threads, Body&& body) {
   if (count == 0) return;
   chunk_size = std::max<size_t>(1, chunk_size);
   const size_t chunks = (count + chunk_size - 1) / chunk_size;
   const size_t workers = std::min<size_t>(std::max(1, threads), chunks);
   if (workers <= 1) {
-    for (size_t k = 0; k < chunks; ++k) body(k, k * chunk_size, std::min(count, (k + 1) * chunk_size));
+    for (size_t k = 0; k < chunks; ++k) body(size_t{0}, k, k * chunk_size, std::min(count, (k + 1) * chunk_size));
     return;
   }
   std::atomic<size_t> next{0};
-  RunTasks(int(workers), [&](int) {
+  RunTasks(int(workers), [&](int task) {
+    const size_t worker = size_t(task);
     try {
       for (size_t k = next++; k < chunks; k = next++) {
-        body(k, k * chunk_size, std::min(count, (k + 1) * chunk_size));
+        body(worker, k, k * chunk_size, std::min(count, (k + 1) * chunk_size));
       }
     } catch (...) {
       next = chunks;
       throw;
     }
   });
+}
+
+// Calls body(chunk, begin, end) as ForEachChunkOnWorkers does.
+template <typename Body>
+void ForEachChunk(size_t count, size_t chunk_size, int threads, Body&& body) {
+  ForEachChunkOnWorkers(count, chunk_size, threads,
+                        [&](size_t, size_t chunk, size_t begin, size_t end) { body(chunk, begin, end); });
 }
 
 // The number of chunks ForEachChunk makes.

@@ -35,21 +35,34 @@ class PermutedIncompleteCholesky {
   template <typename Matrix>
   PermutedIncompleteCholesky& factorize(const Matrix& a) { return compute(a); }
 
+  // The AMD permutation compute finds for a matrix of this pattern (n x n, nnz entries,
+  // compressed column starts outer and row indices inner, as A's): computed apart, it can
+  // be found while A's values are still being assembled (PresetOrdering).
+  static Permutation Ordering(Eigen::Index n, Eigen::Index nnz, const int* outer, const int* inner) {
+    Eigen::SparseMatrix<signed char, Eigen::ColMajor, int> pattern(n, n);
+    pattern.data().reserve(nnz + nnz / 5 + 2 * n);  // minimum_degree_ordering's room
+    pattern.resizeNonZeros(nnz);
+    std::copy(outer, outer + n + 1, pattern.outerIndexPtr());
+    std::copy(inner, inner + nnz, pattern.innerIndexPtr());
+    std::fill(pattern.valuePtr(), pattern.valuePtr() + nnz, static_cast<signed char>(1));
+    Permutation inverse;
+    Eigen::internal::minimum_degree_ordering(pattern, inverse);
+    return inverse.inverse();
+  }
+
+  // The next compute uses `ordering` (Ordering of its matrix's pattern) instead of finding it.
+  void PresetOrdering(Permutation ordering) {
+    permutation_ = std::move(ordering);
+    preset_ = true;
+  }
+
   template <typename Matrix>
   PermutedIncompleteCholesky& compute(const Matrix& a) {
     const Eigen::Index n = a.cols();
-    const Eigen::Index nnz = a.nonZeros();
-    {
-      Eigen::SparseMatrix<signed char, Eigen::ColMajor, int> pattern(n, n);
-      pattern.data().reserve(nnz + nnz / 5 + 2 * n);  // minimum_degree_ordering's room
-      pattern.resizeNonZeros(nnz);
-      std::copy(a.outerIndexPtr(), a.outerIndexPtr() + n + 1, pattern.outerIndexPtr());
-      std::copy(a.innerIndexPtr(), a.innerIndexPtr() + nnz, pattern.innerIndexPtr());
-      std::fill(pattern.valuePtr(), pattern.valuePtr() + nnz, static_cast<signed char>(1));
-      Permutation inverse;
-      Eigen::internal::minimum_degree_ordering(pattern, inverse);
-      permutation_ = inverse.inverse();
+    if (!preset_ || permutation_.size() != n) {
+      permutation_ = Ordering(n, a.nonZeros(), a.outerIndexPtr(), a.innerIndexPtr());
     }
+    preset_ = false;
     const int* p = permutation_.indices().data();
     // Entry (i, j) of A's lower triangle (i >= j) is entry (max, min) of (p[i], p[j]) of the
     // permuted lower triangle.
@@ -97,6 +110,7 @@ class PermutedIncompleteCholesky {
 
  private:
   Permutation permutation_;
+  bool preset_ = false;
   Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::NaturalOrdering<int>> factor_;
 };
 

@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <cstring>
 #include <cmath>
 
 #include "opencv_kernels.h"
@@ -268,16 +269,26 @@ std::vector<Point2> SelectRefinementSamples(const std::vector<float>& error, int
                                             size_t max_count) {
   std::vector<Point2> chosen;
   if (max_count == 0) return chosen;
-  std::vector<uint32_t> candidates;
+  // Candidates by decreasing error, ties by pixel index: sorted as one 64-bit key each, the
+  // error as an unsigned value that grows with it (a float's bits, the sign's flipped, a
+  // negative's all flipped; -0 taken as +0; no NaN passes the threshold), inverted, above
+  // the index. The sort then reads no error, and its order is the comparison's
+  // (error[a] > error[b], then a < b).
+  std::vector<uint64_t> candidates;
   for (size_t p = 0; p < error.size(); ++p) {
-    if (error[p] > threshold && !blocked[p]) candidates.push_back(uint32_t(p));
+    if (error[p] > threshold && !blocked[p]) {
+      const float e = error[p] + 0.0f;  // -0 -> +0
+      uint32_t bits;
+      std::memcpy(&bits, &e, sizeof bits);
+      const uint32_t rank = (bits & 0x80000000u) ? ~bits : bits | 0x80000000u;
+      candidates.push_back((uint64_t(~rank) << 32) | uint64_t(p));
+    }
   }
-  std::sort(candidates.begin(), candidates.end(), [&](uint32_t a, uint32_t b) {
-    return error[a] != error[b] ? error[a] > error[b] : a < b;
-  });
+  std::sort(candidates.begin(), candidates.end());
   PointGrid grid(width, height, std::max({spacing.base, spacing.min, spacing.max}));
   for (const Vertex& v : existing) grid.Add(v.x, v.y);
-  for (uint32_t p : candidates) {
+  for (const uint64_t key : candidates) {
+    const uint32_t p = uint32_t(key);
     const double x = p % width + 0.5, y = double(p / width) + 0.5;
     if (grid.AnyCloserThan(x, y, spacing.At(error[p]))) continue;
     grid.Add(x, y);

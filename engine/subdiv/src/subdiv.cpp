@@ -252,12 +252,29 @@ void ComposeBlock(size_t begin, size_t end, const MaskRow& mask_row, const Spars
   out.sizes.reserve(end - begin);
   ReserveEntries(out.indices, out.estimate);
   ReserveEntries(out.weights, out.estimate);
-  for (size_t r = begin; r < end; ++r) {
-    const uint32_t row_stamp = static_cast<uint32_t>(r);
-    s.touched.clear();
+  // The mask row of r + 1 is computed while row r is composed, and the previous level's
+  // rows it names (anywhere in the table) are asked for first: the composition waits on
+  // them otherwise. What is computed does not change.
+  std::vector<uint32_t> mask_indices;
+  std::vector<double> mask_weights;
+  auto load_mask = [&](size_t r) {
     s.row_indices.clear();
     s.row_weights.clear();
     mask_row(r, s);
+    if (!previous) return;
+    for (const uint32_t p : s.row_indices) {
+      const uint32_t k = previous->offsets[p];
+      __builtin_prefetch(&previous->indices[k]);
+      __builtin_prefetch(&previous->weights[k]);
+    }
+  };
+  if (begin < end) load_mask(begin);
+  for (size_t r = begin; r < end; ++r) {
+    const uint32_t row_stamp = static_cast<uint32_t>(r);
+    s.touched.clear();
+    std::swap(s.row_indices, mask_indices);
+    std::swap(s.row_weights, mask_weights);
+    if (r + 1 < end) load_mask(r + 1);
     auto accumulate = [&](uint32_t c, double w) {
       if (s.stamp[c] != row_stamp) {
         s.stamp[c] = row_stamp;
@@ -266,9 +283,9 @@ void ComposeBlock(size_t begin, size_t end, const MaskRow& mask_row, const Spars
       }
       s.accumulator[c] += w;
     };
-    for (size_t k = 0; k < s.row_indices.size(); ++k) {
-      const uint32_t p = s.row_indices[k];
-      const double w = s.row_weights[k];
+    for (size_t k = 0; k < mask_indices.size(); ++k) {
+      const uint32_t p = mask_indices[k];
+      const double w = mask_weights[k];
       if (!previous) {
         accumulate(p, w);
         continue;

@@ -16,7 +16,8 @@
 // with a sparse LDL^T as the fallback when CG does not converge in 2000 iterations. CG starts
 // from the target's colour at each control vertex's pixel, or, with warm_start, from the
 // colours the vertices carry on entry (Vectorize passes the previous round's fit).
-// Single-threaded, so deterministic for a given input (and start).
+// The three channels' solves run on up to three threads (ColorFitOptions::threads), each
+// exactly the single-threaded solve, so deterministic for a given input (and start).
 //
 // Regulariser: the second term is a graph-Laplacian (membrane / diffusion) energy over the
 // control mesh's edges, weighted by lambda times s = the mean diagonal of the data matrix
@@ -45,7 +46,7 @@ struct ColorFitOptions {
   LimitSurfaceOptions surface;
   double regularization = 1e-4;  // lambda of the header comment (relative, >= 0)
   bool warm_start = false;       // CG from the vertices' colours on entry (header comment)
-  int threads = 1;               // assembly threads (results do not depend on it)
+  int threads = 1;               // assembly and solve threads (results do not depend on it)
 };
 
 // Everything the fit computed besides the colours, for reconstruction and error maps.

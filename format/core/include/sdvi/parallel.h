@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Tasks on threads, safe under memory limits: the one place where sdvi starts threads
-// (spec/METHOD.md 6 "Threads").
+// (spec/METHOD.md 6 "Threads"): RunTasks for tasks the caller waits for, BackgroundTask for
+// one task beside the caller's own work.
 #ifndef SDVI_PARALLEL_H_
 #define SDVI_PARALLEL_H_
 
 #include <exception>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace sdvi {
@@ -44,6 +46,43 @@ void RunTasks(int count, Task&& task) {
     if (e) std::rethrow_exception(e);
   }
 }
+
+// One task beside the caller's own work, on a thread of its own: Wait() joins it and throws
+// again what it threw; a task still running when the object goes (an early return, an
+// exception on the caller) is joined, what it threw dropped. When no thread can be started
+// (as in RunTasks) Start runs the task itself, before returning.
+class BackgroundTask {
+ public:
+  BackgroundTask() = default;
+  BackgroundTask(const BackgroundTask&) = delete;
+  BackgroundTask& operator=(const BackgroundTask&) = delete;
+  ~BackgroundTask() {
+    if (thread_.joinable()) thread_.join();
+  }
+  template <typename Task>
+  void Start(Task&& task) {
+    auto run = [this, task = std::forward<Task>(task)]() mutable noexcept {
+      try {
+        task();
+      } catch (...) {
+        failed_ = std::current_exception();
+      }
+    };
+    try {
+      thread_ = std::thread(run);
+    } catch (...) {
+      run();  // no thread: the task runs here
+    }
+  }
+  void Wait() {
+    if (thread_.joinable()) thread_.join();
+    if (failed_) std::rethrow_exception(std::exchange(failed_, nullptr));
+  }
+
+ private:
+  std::thread thread_;
+  std::exception_ptr failed_;
+};
 
 }  // namespace sdvi
 
