@@ -24,7 +24,6 @@
 #include <chrono>
 #include <cmath>
 #include <string>
-#include <thread>
 
 namespace sdvi {
 namespace {

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
-#include <thread>
 
 #include "row_blocks.h"
 #include "sdvi/default_init_allocator.h"
