@@ -21,8 +21,7 @@ struct CommandSetup {
   std::vector<const std::string*> inputs, outputs;
   uint64_t max_memory = 0;
   const std::string* output = nullptr;  // -o (AddOutput)
-  bool raster_codecs = false;           // UsesRasterCodecs
-  const std::string* raster_when = nullptr;
+  std::function<bool()> raster_codecs;  // UsesRasterCodecs: whether this run opens them
 };
 std::map<const CLI::App*, CommandSetup>& Setup() {
   static std::map<const CLI::App*, CommandSetup> setups;
@@ -107,8 +106,7 @@ void SetAction(CLI::App* command, Outcome& outcome, std::function<int()> run) {
       Status ready = CheckOutputs(command);
       const CommandSetup& setup = Setup()[command];
       // Before the limit (OpenRasterCodecs); a failure here is reported by the decode itself.
-      if (ready.ok() && setup.raster_codecs && (!setup.raster_when || !setup.raster_when->empty()))
-        (void)OpenRasterCodecs();
+      if (ready.ok() && setup.raster_codecs && setup.raster_codecs()) (void)OpenRasterCodecs();
       if (ready.ok()) ready = LimitMemory(setup.max_memory);
       outcome.exit_code = ready.ok() ? run() : ReportError(command->get_name(), ready);
     } catch (const std::bad_alloc&) {
@@ -126,8 +124,7 @@ void SetAction(CLI::App* command, Outcome& outcome, std::function<int()> run) {
 }
 
 void UsesRasterCodecs(CLI::App* command, const std::string* when_given) {
-  Setup()[command].raster_codecs = true;
-  Setup()[command].raster_when = when_given;
+  Setup()[command].raster_codecs = [when_given] { return when_given == nullptr || !when_given->empty(); };
 }
 
 void MarkInput(CLI::App* command, const std::string& path) { Setup()[command].inputs.push_back(&path); }

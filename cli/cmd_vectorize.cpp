@@ -9,8 +9,6 @@
 #include <string>
 #include <thread>
 
-#include <nlohmann/json.hpp>
-
 #include "args.h"
 #include "commands.h"
 #include "io.h"
@@ -26,48 +24,6 @@ namespace sdvi::cli {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-nlohmann::json ReportJson(const std::string& input, const std::string& output, const Raster& raster,
-                          const VectorizeReport& r, uint64_t file_size) {
-  const VectorizeTimings& s = r.seconds;
-  nlohmann::json history = nlohmann::json::array();
-  for (const VectorizeIteration& it : r.history) {
-    history.push_back({{"vertices", it.vertices},
-                       {"triangles", it.triangles},
-                       {"added_samples", it.added_samples},
-                       {"psnr_db", it.psnr},
-                       {"time_s", it.seconds.total}});
-  }
-  return {{"input", input},
-          {"output", output},
-          {"width", raster.width},
-          {"height", raster.height},
-          {"time_s", s.total + s.load},
-          {"iterations", r.iterations},
-          {"triangles", r.triangles},
-          {"vertices", r.vertices},
-          {"paper_size_bytes", r.paper_size},
-          {"file_size_bytes", file_size},
-          {"pixels", r.pixels},
-          {"mean_error", r.mean_error},
-          {"compression_ratio", r.compression_ratio},
-          {"psnr_db", r.psnr},
-          {"mssim", r.mssim},
-          {"mssim_channels", "mean over R, G, B"},
-          {"feature_curves", r.feature_curves},
-          {"phases_s",
-           {{"load", s.load},
-            {"features", s.features},
-            {"triangulate", s.triangulate},
-            {"flips", s.flips},
-            {"limit_surface", s.surface},
-            {"coverage", s.coverage},
-            {"assemble", s.assemble},
-            {"solve", s.solve},
-            {"refine", s.refine},
-            {"metrics", s.metrics}}},
-          {"history", history}};
-}
 
 Status WriteDebugPictures(const std::string& dir, const Raster& raster, const VectorizeResult& result) {
   std::error_code ec;
@@ -140,45 +96,21 @@ Status VectorizeCommand(VectorizeArgs& args) {
   if (!made.ok()) return Status(made.status().code(), input + ": " + made.status().message());
   VectorizeResult& result = made->vectorized;
   const std::vector<uint8_t>& bytes = made->bytes;
-  const bool reached = made->reached;
-  const std::string& note = made->note;
-  nlohmann::json rate_report;
-  if (made->compressed) {
-    const RateResult& c = made->choices;
-    if (has_quality || has_bytes || options.target_psnr > 0) rate_report["vectorize_runs"] = made->vectorize_runs;
-    rate_report["position_bits"] = c.position_bits;
-    rate_report["color_bits"] = c.color_bits;
-    rate_report["colors_refitted"] = c.colors_refitted;
-    rate_report["mended_vertices"] = c.mended_vertices;
-    rate_report["colors_decorrelated"] = c.colors_decorrelated;
-    rate_report["slope_db"] = c.slope_db;
-    rate_report["candidates"] = c.evaluations;
-  }
   result.report.seconds.load = load_seconds;
-  const double fit_psnr = result.report.fit_psnr;
-  if (!reached) {
-    if (args.strict) return Status(StatusCode::kLimitExceeded, input + ": " + note + "; nothing written");
-    std::fprintf(stderr, "sdvi vectorize: warning: %s: %s\n", input.c_str(), note.c_str());
+  if (!made->reached) {
+    if (args.strict) return Status(StatusCode::kLimitExceeded, input + ": " + made->note + "; nothing written");
+    std::fprintf(stderr, "sdvi vectorize: warning: %s: %s\n", input.c_str(), made->note.c_str());
   }
   SDVI_RETURN_IF_ERROR(WriteFileAtomic(output, bytes));
   const uint64_t file_size = bytes.size();
 
-  nlohmann::json report = ReportJson(input, output, raster, result.report, file_size);
-  report["fit_psnr_db"] = fit_psnr;
-  if (!rate_report.is_null()) report["rate"] = rate_report;
-  if (has_quality || has_bytes || options.target_psnr > 0) {
-    report["target_reached"] = reached;
-    if (!reached) report["target_note"] = note;
-  }
-  if (!args.report.empty()) {
-    const std::string text = report.dump(2) + "\n";
-    SDVI_RETURN_IF_ERROR(WriteFileAtomic(args.report, text.data(), text.size()));
-  }
+  const std::string report = VectorizedFileReportJson(*made, input, output, 2) + "\n";
+  if (!args.report.empty()) SDVI_RETURN_IF_ERROR(WriteFileAtomic(args.report, report.data(), report.size()));
   if (!args.debug_dir.empty()) {
     SDVI_RETURN_IF_ERROR(WriteDebugPictures(args.debug_dir, raster, result));
   }
   if (args.json) {
-    std::printf("%s\n", report.dump(2).c_str());
+    std::fputs(report.c_str(), stdout);
   } else if (!args.quiet) {
     const VectorizeReport& r = result.report;
     std::fprintf(SummaryStream(output),

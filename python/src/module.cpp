@@ -139,25 +139,6 @@ Image LoadImageSource(const ImageSource& source) {
 
 int DefaultThreads() { return int(std::min(8u, std::max(1u, std::thread::hardware_concurrency()))); }
 
-// The report of `sdvi vectorize --report` (its main fields): psnr_db is the file's one PSNR
-// (the x1 render of what a reader decodes, spec/RATE.md), fit_psnr_db the fit's.
-py::dict ReportDict(const VectorizeReport& r, double fit_psnr) {
-  py::dict d;
-  d["fit_psnr_db"] = fit_psnr;
-  d["iterations"] = r.iterations;
-  d["vertices"] = r.vertices;
-  d["triangles"] = r.triangles;
-  d["paper_size_bytes"] = r.paper_size;
-  d["pixels"] = r.pixels;
-  d["compression_ratio"] = r.compression_ratio;
-  d["psnr_db"] = r.psnr;
-  d["mssim"] = r.mssim;
-  d["mean_error"] = r.mean_error;
-  d["feature_curves"] = r.feature_curves;
-  d["time_s"] = r.seconds.total;
-  return d;
-}
-
 // vectorize(source, output=None, ...) -> (Image, report dict). The options and the file
 // written (raw payload, or Draco with compress=True) are those of `sdvi vectorize`.
 py::tuple VectorizePy(const Source& source, std::optional<std::string> output,
@@ -198,11 +179,8 @@ py::tuple VectorizePy(const Source& source, std::optional<std::string> output,
     made = std::move(done).value();
     if (output) Check(WriteFileAtomic(*output, made.bytes));
   }
-  py::dict report = ReportDict(made.vectorized.report, made.vectorized.report.fit_psnr);
-  if (targets > 0) {
-    report["target_reached"] = made.reached;
-    if (!made.reached) report["target_note"] = made.note;
-  }
+  // The report of `sdvi vectorize --report`, field for field (VectorizedFileReportJson).
+  py::dict report = py::module_::import("json").attr("loads")(VectorizedFileReportJson(made, name, output.value_or(""), -1));
   return py::make_tuple(std::move(made.decoded), report);
 }
 
@@ -401,8 +379,9 @@ PYBIND11_MODULE(_sdvi, m) {
         py::arg("compress") = false, py::arg("quality") = -1.0, py::arg("target_bytes") = 0,
         "Vectorizes an image file or array; writes output (.sdvi) when given, exactly as "
         "`sdvi vectorize SOURCE -o OUTPUT` does. Returns (Image, report dict): the image a reader "
-        "of the file gets and the file's PSNR, MSSIM and mean error; with a target (quality, "
-        "target_bytes, target_psnr) also target_reached and, when missed, target_note.");
+        "of the file gets and the report `sdvi vectorize --report` writes (the file's PSNR, MSSIM "
+        "and mean error, sizes, timings, history; with a target (quality, target_bytes, "
+        "target_psnr) also target_reached and, when missed, target_note).");
   m.def("render", &RenderPy, py::arg("source"), py::arg("output") = py::none(), py::kw_only(),
         py::arg("scale") = 1.0, py::arg("width") = 0, py::arg("height") = 0, py::arg("levels") = -1,
         py::arg("threads") = 0, py::arg("bits") = 8,

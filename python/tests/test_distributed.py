@@ -111,6 +111,16 @@ def main():
         check((report["psnr_db"], report["mssim"], report["mean_error"]) ==
               (printed["psnr"], printed["mssim"], printed["mean_error"]),
               f"report {report} against compare {printed}")
+        # The report is the command's, field for field, apart from names and times.
+        cli_report = json.loads(subprocess.run([cli, "vectorize", str(inputs / "a.png"), "-o", str(tmp / "a_cli.sdvi"),
+                                                "--json"], check=True, capture_output=True, text=True).stdout)
+
+        def timeless(r):
+            r = {k: v for k, v in r.items() if k not in ("input", "output", "time_s", "phases_s")}
+            r["history"] = [{k: v for k, v in h.items() if k != "time_s"} for h in r["history"]]
+            return r
+        check(timeless(report) == timeless(cli_report), f"report {report} against the command's {cli_report}")
+        check(report["output"] == str(tmp / "a_py.sdvi"), f"report names the output: {report['output']}")
         try:
             sdvi.vectorize(np.zeros((4, 4, 7), np.uint8))
             check(False, "a 7-channel array is refused")

@@ -291,6 +291,7 @@ StatusOr<VectorizedFile> VectorizeToFile(const Raster& source, const Raster* mas
       SDVI_ASSIGN_OR_RETURN(compressed, CompressForRate(out.vectorized, source, mask, options.fit, rate));
     }
   }
+  out.targeted = has_target || options.target_psnr > 0;
   out.compressed = has_target || compress;
   if (out.compressed) {
     out.bytes = std::move(compressed.file);

@@ -56,6 +56,34 @@ struct ChunkSets {
 // Elements per chunk when per-element index sets are built on the threads.
 constexpr size_t kSetChunk = 2048;
 
+// Builds sorted index sets without duplicates, one after another, into a chunk's items: a
+// mark per control vertex (one builder per worker, made on its first chunk).
+class SortedSetBuilder {
+ public:
+  // Starts a set at the end of items.
+  void Begin(size_t num_control, const std::vector<uint32_t>& items) {
+    if (seen_.empty()) seen_.assign(num_control, 0);
+    first_ = items.size();
+  }
+  // Appends c unless the set holds it already.
+  void Add(std::vector<uint32_t>& items, uint32_t c) {
+    if (!seen_[c]) {
+      seen_[c] = 1;
+      items.push_back(c);
+    }
+  }
+  // Ends the set: clears its marks, sorts it, records its size in counts.
+  void End(ChunkSets& chunk) {
+    for (size_t k = first_; k < chunk.items.size(); ++k) seen_[chunk.items[k]] = 0;
+    std::sort(chunk.items.begin() + first_, chunk.items.end());
+    chunk.counts.push_back(uint32_t(chunk.items.size() - first_));
+  }
+
+ private:
+  std::vector<uint8_t> seen_;
+  size_t first_ = 0;
+};
+
 // Flat lists of per-control-triangle index sets: set t = [offsets[t], offsets[t+1]).
 struct IndexSets {
   std::vector<uint32_t> offsets{0};
@@ -368,11 +396,10 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
   {
     const size_t chunks = fit_internal::ChunkCount(num_control_tris, kSetChunk);
     std::vector<ChunkSets> fine_chunks(chunks), support_chunks(chunks);
-    std::vector<std::vector<uint8_t>> seen_of(threads);
+    std::vector<SortedSetBuilder> builders(threads);
     fit_internal::ForEachChunkOnWorkers(num_control_tris, kSetChunk, threads,
                                         [&](size_t worker, size_t chunk, size_t t0, size_t t1) {
-      std::vector<uint8_t>& seen = seen_of[worker];
-      if (seen.empty()) seen.assign(num_control, 0);
+      SortedSetBuilder& set = builders[worker];
       ChunkSets& lf = fine_chunks[chunk];
       ChunkSets& sup = support_chunks[chunk];
       lf.counts.reserve(t1 - t0);
@@ -397,21 +424,13 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
           }
         }
         lf.counts.push_back(uint32_t(lf.items.size() - lf_first));
-        const size_t first = sup.items.size();
-        auto add = [&](uint32_t c) {
-          if (!seen[c]) {
-            seen[c] = 1;
-            sup.items.push_back(c);
-          }
-        };
-        for (uint32_t c : image.triangles[t].v) add(c);
+        set.Begin(num_control, sup.items);
+        for (uint32_t c : image.triangles[t].v) set.Add(sup.items, c);
         for (size_t l = lf_first; l < lf.items.size(); ++l) {
           const uint32_t v = lf.items[l];
-          for (uint32_t k = stencils.offsets[v]; k < stencils.offsets[v + 1]; ++k) add(stencils.indices[k]);
+          for (uint32_t k = stencils.offsets[v]; k < stencils.offsets[v + 1]; ++k) set.Add(sup.items, stencils.indices[k]);
         }
-        for (size_t k = first; k < sup.items.size(); ++k) seen[sup.items[k]] = 0;
-        std::sort(sup.items.begin() + first, sup.items.end());
-        sup.counts.push_back(uint32_t(sup.items.size() - first));
+        set.End(sup);
       }
     });
     local_fine.Concatenate(fine_chunks);
@@ -437,31 +456,22 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
     // Rows in chunks on the threads, concatenated in order.
     const size_t chunks = fit_internal::ChunkCount(num_control, kSetChunk);
     std::vector<ChunkSets> row_chunks(chunks);
-    std::vector<std::vector<uint8_t>> seen_of(threads);
+    std::vector<SortedSetBuilder> builders(threads);
     fit_internal::ForEachChunkOnWorkers(num_control, kSetChunk, threads,
                                         [&](size_t worker, size_t chunk, size_t i0, size_t i1) {
-      std::vector<uint8_t>& seen = seen_of[worker];
-      if (seen.empty()) seen.assign(num_control, 0);
+      SortedSetBuilder& set = builders[worker];
       ChunkSets& rows = row_chunks[chunk];
       rows.counts.reserve(i1 - i0);
       for (size_t i = i0; i < i1; ++i) {
-        const size_t first = rows.items.size();
-        rows.items.push_back(uint32_t(i));  // the diagonal always exists (regulariser)
-        seen[i] = 1;
+        set.Begin(num_control, rows.items);
+        set.Add(rows.items, uint32_t(i));  // the diagonal always exists (regulariser)
         for (const uint32_t* t = tris_of_control.begin(i); t != tris_of_control.begin(i + 1); ++t) {
-          for (const uint32_t* c = support.begin(*t); c != support.begin(*t + 1); ++c) {
-            if (!seen[*c]) {
-              seen[*c] = 1;
-              rows.items.push_back(*c);
-            }
-          }
+          for (const uint32_t* c = support.begin(*t); c != support.begin(*t + 1); ++c) set.Add(rows.items, *c);
         }
-        for (size_t k = first; k < rows.items.size(); ++k) seen[rows.items[k]] = 0;
-        std::sort(rows.items.begin() + first, rows.items.end());
-        rows.counts.push_back(uint32_t(rows.items.size() - first));
+        set.End(rows);
       }
     });
-    seen_of.clear();
+    builders.clear();
     tris_of_control = IndexSets();
     size_t nonzeros = 0;
     for (const ChunkSets& rows : row_chunks) nonzeros += rows.items.size();

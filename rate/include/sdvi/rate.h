@@ -132,7 +132,8 @@ struct VectorizedFile {
   Image decoded;               // what a reader of bytes gets
   bool compressed = false;
   RateResult choices;          // compressed: the choices made (its file and decoded moved out)
-  bool reached = true;         // a target (or VectorizeOptions::target_psnr) was met
+  bool targeted = false;       // a target was set (or VectorizeOptions::target_psnr)
+  bool reached = true;         // ... and met
   std::string note;            // why not
   int vectorize_runs = 1;
 };
@@ -146,5 +147,11 @@ struct VectorizedFile {
 StatusOr<VectorizedFile> VectorizeToFile(const Raster& source, const Raster* mask, const VectorizeOptions& options,
                                          bool compress, const RateTarget& target, const RateOptions& rate,
                                          const std::string& name);
+
+// The report of made as JSON text (nlohmann's dump with indent; -1: one line): the fields of
+// `sdvi vectorize --report`, which the Python binding returns too (one list for both). input
+// and output are the names as given; seconds.load of made's report counts in time_s.
+std::string VectorizedFileReportJson(const VectorizedFile& made, const std::string& input, const std::string& output,
+                                     int indent);
 
 }  // namespace sdvi

@@ -34,7 +34,6 @@ void RunTasks(int count, Task&& task) {
   std::vector<std::thread> pool;
   int started = 1;
   try {
-    pool.reserve(static_cast<size_t>(count - 1));
     for (; started < count; ++started) pool.emplace_back(run, started);
   } catch (...) {
     // Tasks started .. count - 1 have no thread: the calling thread runs them below.

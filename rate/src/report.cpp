@@ -1,0 +1,72 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The report of a vectorized file (sdvi/rate.h): one list of fields for `sdvi vectorize
+// --report` and the Python binding.
+#include <nlohmann/json.hpp>
+
+#include "sdvi/rate.h"
+
+namespace sdvi {
+
+std::string VectorizedFileReportJson(const VectorizedFile& made, const std::string& input, const std::string& output,
+                                     int indent) {
+  const VectorizeReport& r = made.vectorized.report;
+  const VectorizeTimings& s = r.seconds;
+  nlohmann::json history = nlohmann::json::array();
+  for (const VectorizeIteration& it : r.history) {
+    history.push_back({{"vertices", it.vertices},
+                       {"triangles", it.triangles},
+                       {"added_samples", it.added_samples},
+                       {"psnr_db", it.psnr},
+                       {"time_s", it.seconds.total}});
+  }
+  nlohmann::json report = {{"input", input},
+                           {"output", output},
+                           {"width", made.decoded.width},
+                           {"height", made.decoded.height},
+                           {"time_s", s.total + s.load},
+                           {"iterations", r.iterations},
+                           {"triangles", r.triangles},
+                           {"vertices", r.vertices},
+                           {"paper_size_bytes", r.paper_size},
+                           {"file_size_bytes", made.bytes.size()},
+                           {"pixels", r.pixels},
+                           {"mean_error", r.mean_error},
+                           {"compression_ratio", r.compression_ratio},
+                           {"psnr_db", r.psnr},
+                           {"mssim", r.mssim},
+                           {"mssim_channels", "mean over R, G, B"},
+                           {"feature_curves", r.feature_curves},
+                           {"phases_s",
+                            {{"load", s.load},
+                             {"features", s.features},
+                             {"triangulate", s.triangulate},
+                             {"flips", s.flips},
+                             {"limit_surface", s.surface},
+                             {"coverage", s.coverage},
+                             {"assemble", s.assemble},
+                             {"solve", s.solve},
+                             {"refine", s.refine},
+                             {"metrics", s.metrics}}},
+                           {"history", history},
+                           {"fit_psnr_db", r.fit_psnr}};
+  if (made.compressed) {
+    const RateResult& c = made.choices;
+    nlohmann::json rate;
+    if (made.targeted) rate["vectorize_runs"] = made.vectorize_runs;
+    rate["position_bits"] = c.position_bits;
+    rate["color_bits"] = c.color_bits;
+    rate["colors_refitted"] = c.colors_refitted;
+    rate["mended_vertices"] = c.mended_vertices;
+    rate["colors_decorrelated"] = c.colors_decorrelated;
+    rate["slope_db"] = c.slope_db;
+    rate["candidates"] = c.evaluations;
+    report["rate"] = rate;
+  }
+  if (made.targeted) {
+    report["target_reached"] = made.reached;
+    if (!made.reached) report["target_note"] = made.note;
+  }
+  return report.dump(indent);
+}
+
+}  // namespace sdvi
