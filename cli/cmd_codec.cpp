@@ -2,6 +2,7 @@
 // sdvi compress (raw -> Draco payload) and sdvi decompress (any payload -> raw).
 #include <cstdio>
 #include <map>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -11,32 +12,19 @@
 #include "sdvi/codec.h"
 #include "sdvi/file_util.h"
 #include "sdvi/format.h"
+#include "sdvi/parallel.h"
 #include "sdvi/raster_io.h"
+#include "sdvi/rate.h"
 #include "sdvi/render.h"
 
 namespace sdvi::cli {
 namespace {
 
-// MSE (8-bit units) of image's render at its own size against the reference raster.
-StatusOr<double> ReferenceMse(const Image& image, const std::string& reference_path) {
-  SDVI_ASSIGN_OR_RETURN(Raster reference, LoadRaster(reference_path));
-  if (uint32_t(reference.width) != image.width || uint32_t(reference.height) != image.height)
-    return Status(StatusCode::kInvalidArgument,
-                  reference_path + ": the reference is " + std::to_string(reference.width) + "x" +
-                      std::to_string(reference.height) + ", the image " + std::to_string(image.width) +
-                      "x" + std::to_string(image.height));
-  RenderOptions options;
-  options.viewport = Viewport::Identity(static_cast<int>(image.width), static_cast<int>(image.height));
-  SDVI_ASSIGN_OR_RETURN(Raster render, Render(image, options));
-  SDVI_ASSIGN_OR_RETURN(ImageMetrics metrics, CompareImages(render, reference));
-  return metrics.mse;
-}
-
 // The options of `sdvi compress` and `sdvi decompress`.
 struct CodecArgs {
   std::string input, output, reference;
   CompressOptions options;
-  CLI::Option* reference_mse = nullptr;
+  int threads = 1;
   bool quiet = false, json = false;
 };
 
@@ -46,12 +34,18 @@ int Compress(CodecArgs& a) {
   CompressOptions& options = a.options;
   auto image = ReadImage(a.input);
   if (!image.ok()) return ReportError(command, image.status());
+  // With the original image: the rate control of `vectorize --compress` (spec/RATE.md 2, 3).
+  std::optional<RateResult> rate;
   if (!a.reference.empty()) {
-    auto mse = ReferenceMse(*image, a.reference);
-    if (!mse.ok()) return ReportError(command, mse.status());
-    options.reference_mse = *mse;
+    auto reference = LoadRaster(a.reference);
+    if (!reference.ok()) return ReportError(command, reference.status());
+    RateOptions rate_options;
+    rate_options.threads = a.threads;
+    auto chosen = CompressImageForRate(*image, *reference, rate_options);
+    if (!chosen.ok()) return ReportError(command, Status(chosen.status().code(), a.reference + ": " + chosen.status().message()));
+    rate = std::move(chosen).value();
   }
-  auto bytes = EncodeImage(*image, &options, a.input);
+  auto bytes = rate ? StatusOr<std::vector<uint8_t>>(std::move(rate->file)) : EncodeImage(*image, &options, a.input);
   if (!bytes.ok()) return ReportError(command, bytes.status());
   const uint64_t paper = PaperSizeBytes(image->vertices.size(), image->triangles.size());
   const double pixels = double(image->width) * double(image->height);
@@ -73,6 +67,14 @@ int Compress(CodecArgs& a) {
     j["bits_per_pixel"] = bpp;
     j["position_bits"] = position_bits;
     j["color_bits"] = color_bits;
+    if (rate) {
+      j["psnr_db"] = rate->psnr;
+      j["colors_refitted"] = rate->colors_refitted;
+      j["mended_vertices"] = rate->mended_vertices;
+      j["colors_decorrelated"] = rate->colors_decorrelated;
+      j["slope_db"] = rate->slope_db;
+      j["candidates"] = rate->evaluations;
+    }
     std::printf("%s\n", j.dump(2).c_str());
   } else if (!a.quiet) {
     std::fprintf(SummaryStream(a.output),
@@ -81,6 +83,7 @@ int Compress(CodecArgs& a) {
                  a.output.c_str(), image->vertices.size(), image->triangles.size(), bytes->size(),
                  static_cast<unsigned long long>(paper), double(bytes->size()) / double(paper), bpp,
                  double(bytes->size()) / double(image->vertices.size()), position_bits, color_bits);
+    if (rate) std::fprintf(SummaryStream(a.output), "%s: PSNR %.2f dB against %s\n", a.output.c_str(), rate->psnr, a.reference.c_str());
   }
   return kExitOk;
 }
@@ -96,19 +99,29 @@ int Decompress(const CodecArgs& a) {
 
 void RegisterCompress(CLI::App& app, Outcome& outcome) {
   auto a = std::make_shared<CodecArgs>();
+  a->threads = DefaultThreads();
   CompressOptions& o = a->options;
   CLI::App* c = AddCommand(
       app, "compress", "re-encode a .sdvi with a Draco payload (quantised positions and colours, edgebreaker)",
       {"sdvi compress in.sdvi -o small.sdvi",
-       "sdvi compress in.sdvi -o small.sdvi --reference original.png   # quantise from the fit's error",
+       "sdvi compress in.sdvi -o small.sdvi --reference original.png   # the bits by rate-distortion, colours refitted",
        "sdvi compress in.sdvi -o small.sdvi --position-bits 14 --color-bits 8 --speed 0",
        "sdvi compress in.sdvi -o small.sdvi --colors smallest   # decorrelated colours where smaller",
        "sdvi compress raw/ -O small/ -j 2   # every .sdvi in raw/"});
   AddOutput(c, a->output, "the compressed .sdvi file");
   AddInputs(c, a->input, "the .sdvi file (any payload; '-' reads standard input)", {{"sdvi"}, "sdvi", "", {}});
-  c->add_option("--position-bits", o.position_bits, "quantisation bits for x, y (0: automatic)")->check(CLI::Range(0, 30));
-  c->add_option("--color-bits", o.color_bits, "quantisation bits for R, G, B (0: automatic)")->check(CLI::Range(0, 30));
-  c->add_option("--speed", o.speed, "Draco speed: 0 smallest file .. 10 fastest")->check(CLI::Range(0, 10));
+  MarkInput(c, a->reference);
+  UsesRasterCodecs(c, &a->reference);
+  auto* reference = c->add_option("--reference", a->reference,
+                                  "the image the .sdvi was made from: bits chosen by rate-distortion and colours refitted "
+                                  "on the quantised positions, the file `vectorize --compress` writes (spec/RATE.md)")
+                        ->type_name("IMG");
+  c->add_option("--threads", a->threads, "worker threads of --reference's rate control")->check(CLI::Range(1, 256));
+  c->add_option("--position-bits", o.position_bits, "quantisation bits for x, y (0: automatic)")
+      ->check(CLI::Range(0, 30))->excludes(reference);
+  c->add_option("--color-bits", o.color_bits, "quantisation bits for R, G, B (0: automatic)")
+      ->check(CLI::Range(0, 30))->excludes(reference);
+  c->add_option("--speed", o.speed, "Draco speed: 0 smallest file .. 10 fastest")->check(CLI::Range(0, 10))->excludes(reference);
   c->add_option("--colors", o.color_coding,
                 "how colours are coded: rgb (R, G, B), decorrelated (L, C1, C2: smaller on most photos), smallest "
                 "(both, decorrelated predicted by the decoded neighbours' mean, and positions and colours predicted so in the tag "
@@ -116,18 +129,15 @@ void RegisterCompress(CLI::App& app, Outcome& outcome) {
       ->transform(CLI::CheckedTransformer(std::map<std::string, ColorCoding>{{"rgb", ColorCoding::kRgb},
                                                                               {"decorrelated", ColorCoding::kDecorrelated},
                                                                               {"smallest", ColorCoding::kSmallest}}))
-      ->default_str("rgb");
-  MarkInput(c, a->reference);
-  UsesRasterCodecs(c, &a->reference);
-  auto* reference = c->add_option("--reference", a->reference,
-                                  "the original image: the automatic bit depths keep the error added to ~1% of the fit's")
-                        ->type_name("IMG");
-  a->reference_mse = c->add_option("--reference-mse", o.reference_mse,
-                                   "the fit's MSE (8-bit units) instead of --reference (0: none)")
-                         ->check(CLI::Range(0.0, 65025.0))
-                         ->excludes(reference);
+      ->default_str("rgb")
+      ->excludes(reference);
+  c->add_option("--reference-mse", o.reference_mse,
+                "the fit's MSE (8-bit units): automatic bits keep the error added to ~1% of it (0: none)")
+      ->check(CLI::Range(0.0, 65025.0))
+      ->excludes(reference);
   c->add_flag("--keep-vertex-order", o.keep_vertex_order,
-              "keep the vertex numbering (sequential coding, larger) instead of Draco's edgebreaker order");
+              "keep the vertex numbering (sequential coding, larger) instead of Draco's edgebreaker order")
+      ->excludes(reference);
   AddQuiet(c, a->quiet);
   AddJson(c, a->json);
   SetAction(c, outcome, [a] { return Compress(*a); });

@@ -5,7 +5,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
-#include <thread>
 
 #include <nlohmann/json.hpp>
 
@@ -14,6 +13,7 @@
 #include "io.h"
 #include "sdvi/codec.h"
 #include "sdvi/file_util.h"
+#include "sdvi/parallel.h"
 #include "sdvi/progress.h"
 #include "sdvi/raster_io.h"
 #include "sdvi/svg.h"
@@ -143,7 +143,7 @@ Status ImportSvgCommand(const ImportSvgRequest& request) {
 
 void RegisterImportSvg(CLI::App& app, Outcome& outcome) {
   auto r = std::make_shared<ImportSvgRequest>();
-  r->threads = std::min(int(std::max(1u, std::thread::hardware_concurrency())), 8);
+  r->threads = DefaultThreads();
   CLI::App* c = AddCommand(
       app, "import-svg",
       "turn an SVG drawing into a .sdvi: its exact outlines become sharp features, colours fitted to librsvg's rendering (spec/SVG.md)",

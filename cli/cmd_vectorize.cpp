@@ -7,7 +7,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
-#include <thread>
 
 #include "args.h"
 #include "commands.h"
@@ -15,6 +14,7 @@
 #include "sdvi/codec.h"
 #include "sdvi/features.h"
 #include "sdvi/file_util.h"
+#include "sdvi/parallel.h"
 #include "sdvi/progress.h"
 #include "sdvi/raster_io.h"
 #include "sdvi/rate.h"
@@ -134,7 +134,7 @@ struct SampleArgs {
 void RegisterVectorize(CLI::App& app, Outcome& outcome) {
   auto a = std::make_shared<VectorizeArgs>();
   VectorizeOptions& o = a->options;
-  o.threads = std::min(int(std::max(1u, std::thread::hardware_concurrency())), 8);
+  o.threads = DefaultThreads();
   CLI::App* c = AddCommand(
       app, "vectorize",
       "turn a raster image into a .sdvi subdivision surface (feature curves, CDT, colour fit, refinement)",

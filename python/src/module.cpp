@@ -20,12 +20,12 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
-#include <thread>
 #include <variant>
 
 #include "sdvi/codec.h"
 #include "sdvi/file_util.h"
 #include "sdvi/format.h"
+#include "sdvi/parallel.h"
 #include "sdvi/rate.h"
 #include "sdvi/raster_io.h"
 #include "sdvi/render.h"
@@ -137,7 +137,6 @@ Image LoadImageSource(const ImageSource& source) {
   return std::get<Image>(source);
 }
 
-int DefaultThreads() { return int(std::min(8u, std::max(1u, std::thread::hardware_concurrency()))); }
 
 // vectorize(source, output=None, ...) -> (Image, report dict). The options and the file
 // written (raw payload, or Draco with compress=True) are those of `sdvi vectorize`.
@@ -231,20 +230,34 @@ py::object RenderPy(const ImageSource& source, std::optional<std::string> output
 
 // compress(source, output, ...) -> bytes written: a Draco payload as `sdvi compress` writes it.
 size_t CompressPy(const ImageSource& source, const std::string& output, int position_bits, int color_bits,
-                  int speed, double reference_mse) {
+                  int speed, double reference_mse, std::optional<Source> reference, int threads) {
   if (position_bits < 0 || position_bits > 30 || color_bits < 0 || color_bits > 30 || speed < 0 || speed > 10 ||
       !(reference_mse >= 0)) {
     throw py::value_error("sdvi: position_bits and color_bits take 0..30, speed 0..10, reference_mse >= 0");
   }
+  if (reference && (position_bits != 0 || color_bits != 0 || speed != 0 || reference_mse != 0))
+    throw py::value_error("sdvi: reference excludes position_bits, color_bits, speed and reference_mse");
   const std::string name = std::holds_alternative<std::string>(source) ? std::get<std::string>(source) : "image";
   const Image image = LoadImageSource(source);
+  std::optional<Raster> raster;
+  if (reference) raster = LoadSource(*reference);
   py::gil_scoped_release release;
-  CompressOptions options;
-  options.position_bits = position_bits;
-  options.color_bits = color_bits;
-  options.speed = speed;
-  options.reference_mse = reference_mse;
-  const std::vector<uint8_t> bytes = Take(EncodeImage(image, &options, name));
+  std::vector<uint8_t> bytes;
+  if (raster) {
+    // The rate control of `sdvi compress --reference` (spec/RATE.md 2).
+    RateOptions rate;
+    rate.threads = threads > 0 ? threads : DefaultThreads();
+    StatusOr<RateResult> chosen = CompressImageForRate(image, *raster, rate);
+    if (!chosen.ok()) Raise(Status(chosen.status().code(), name + ": " + chosen.status().message()));
+    bytes = std::move(chosen->file);
+  } else {
+    CompressOptions options;
+    options.position_bits = position_bits;
+    options.color_bits = color_bits;
+    options.speed = speed;
+    options.reference_mse = reference_mse;
+    bytes = Take(EncodeImage(image, &options, name));
+  }
   Check(WriteFileAtomic(output, bytes));
   return bytes.size();
 }
@@ -389,8 +402,10 @@ PYBIND11_MODULE(_sdvi, m) {
         "returns a float32 (H, W, 4) array (colours 0..255, alpha 0..1).");
   m.def("compress", &CompressPy, py::arg("source"), py::arg("output"), py::kw_only(),
         py::arg("position_bits") = 0, py::arg("color_bits") = 0, py::arg("speed") = 0,
-        py::arg("reference_mse") = 0.0,
-        "Writes source with a Draco payload, as `sdvi compress`; returns the file size.");
+        py::arg("reference_mse") = 0.0, py::arg("reference") = py::none(), py::arg("threads") = 0,
+        "Writes source with a Draco payload, as `sdvi compress`; returns the file size. With "
+        "reference (the image file or array source was made from): bits by rate-distortion and "
+        "colours refitted, as `sdvi compress --reference`.");
   m.def("compare", &ComparePy, py::arg("a"), py::arg("b"), py::kw_only(), py::arg("levels") = -1,
         "PSNR, MSSIM, mean error between two images (arrays, image files, .sdvi files or Images; "
         "an sdvi image is rendered at the other side's size), as `sdvi compare A B`.");

@@ -121,6 +121,12 @@ def main():
             return r
         check(timeless(report) == timeless(cli_report), f"report {report} against the command's {cli_report}")
         check(report["output"] == str(tmp / "a_py.sdvi"), f"report names the output: {report['output']}")
+        # compress with a reference: the file of `sdvi compress --reference`.
+        size = sdvi.compress(str(tmp / "a_py.sdvi"), str(tmp / "a_rd_py.sdvi"), reference=str(inputs / "a.png"))
+        subprocess.run([cli, "compress", str(tmp / "a_py.sdvi"), "-o", str(tmp / "a_rd_cli.sdvi"), "--reference",
+                        str(inputs / "a.png"), "--quiet"], check=True)
+        check((tmp / "a_rd_py.sdvi").read_bytes() == (tmp / "a_rd_cli.sdvi").read_bytes() and
+              size < (tmp / "a_py.sdvi").stat().st_size, "compress(reference=...) differs from the command's")
         try:
             sdvi.vectorize(np.zeros((4, 4, 7), np.uint8))
             check(False, "a 7-channel array is refused")

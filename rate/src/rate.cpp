@@ -188,6 +188,19 @@ StatusOr<RateResult> CompressForRate(const VectorizeResult& vectorized, const Ra
   return result;
 }
 
+StatusOr<RateResult> CompressImageForRate(const Image& image, const Raster& source, const RateOptions& options) {
+  if (uint32_t(source.width) != image.width || uint32_t(source.height) != image.height)
+    return Status(StatusCode::kInvalidArgument, "the reference is " + std::to_string(source.width) + "x" +
+                                                    std::to_string(source.height) + ", the image " +
+                                                    std::to_string(image.width) + "x" + std::to_string(image.height));
+  VectorizeResult vectorized;
+  vectorized.image = image;
+  SDVI_ASSIGN_OR_RETURN(vectorized.report.fit_psnr, FileQualityPsnr(image, source, options.threads));
+  ColorFitOptions fit;
+  fit.threads = options.threads;
+  return CompressForRate(vectorized, source, nullptr, fit, options);
+}
+
 double BudgetForQuality(double quality) {
   return 400.0 * std::pow(0.01, std::clamp(quality, 0.0, 100.0) / 100.0);
 }

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-# CLI test of the one-PSNR rule (spec/RATE.md 1) and `sdvi info`'s bytes by part, run by ctest as
+# CLI test of the one-PSNR rule (spec/RATE.md 1), `sdvi info`'s bytes by part, the targets and
+# `compress --reference` (the rate control for a raw file), run by ctest as
 #   cmake -DSDVI=<sdvi> -DWORK=<scratch dir> -P cli_rate_test.cmake
 # vectorize (with and without --compress) reports a PSNR; compare of the .sdvi and compare of
 # its x1 PNG render must print the same number, and the report's MSSIM and mean error are
@@ -84,4 +85,42 @@ execute_process(COMMAND ${SDVI} vectorize ${WORK}/s.png -o ${WORK}/q.sdvi --qual
                 RESULT_VARIABLE rc ERROR_VARIABLE err)
 if(NOT rc EQUAL 2 OR NOT err MATCHES "not in range 0")
   message(FATAL_ERROR "--quality 101: exit ${rc}, stderr: ${err}")
+endif()
+
+# compress --reference: the rate control for a raw file and its source (spec/RATE.md 2, 3).
+run_sdvi(0 compress ${WORK}/raw.sdvi -o ${WORK}/plain.sdvi --quiet)
+run_sdvi(0 compress ${WORK}/raw.sdvi -o ${WORK}/rd.sdvi --reference ${WORK}/s.png --threads 1 --json)
+string(JSON reported GET "${last_out}" psnr_db)
+string(JSON refitted GET "${last_out}" colors_refitted)
+file(SIZE ${WORK}/plain.sdvi plain_size)
+file(SIZE ${WORK}/rd.sdvi rd_size)
+run_sdvi(0 compare ${WORK}/rd.sdvi ${WORK}/s.png --json)
+string(JSON from_sdvi GET "${last_out}" psnr)
+run_sdvi(0 compare ${WORK}/plain.sdvi ${WORK}/s.png --json)
+string(JSON plain_psnr GET "${last_out}" psnr)
+if(NOT rd_size LESS plain_size OR NOT reported STREQUAL from_sdvi)
+  message(FATAL_ERROR "compress --reference: ${rd_size} bytes (plain ${plain_size}), PSNR ${reported} reported, "
+                      "${from_sdvi} from compare")
+endif()
+message(STATUS "compress: ${plain_size} bytes at ${plain_psnr} dB; with --reference ${rd_size} at ${reported} dB "
+               "(colours refitted: ${refitted})")
+# The same on any thread count.
+run_sdvi(0 compress ${WORK}/raw.sdvi -o ${WORK}/rd3.sdvi --reference ${WORK}/s.png --threads 3 --quiet)
+file(SHA256 ${WORK}/rd.sdvi rd_hash)
+file(SHA256 ${WORK}/rd3.sdvi rd3_hash)
+if(NOT rd_hash STREQUAL rd3_hash)
+  message(FATAL_ERROR "compress --reference: --threads 1 and 3 give different files")
+endif()
+# A reference of another size: an error naming it, nothing written; explicit bits: a usage error.
+run_sdvi(0 sample -o ${WORK}/small.png --width 48 --height 36)
+execute_process(COMMAND ${SDVI} compress ${WORK}/raw.sdvi -o ${WORK}/bad.sdvi --reference ${WORK}/small.png
+                RESULT_VARIABLE rc ERROR_VARIABLE err)
+if(rc EQUAL 0 OR EXISTS ${WORK}/bad.sdvi OR NOT err MATCHES "small.png: the reference is 48x36, the image 96x72")
+  message(FATAL_ERROR "compress --reference of another size: exit ${rc}, stderr: ${err}")
+endif()
+execute_process(COMMAND ${SDVI} compress ${WORK}/raw.sdvi -o ${WORK}/bits.sdvi --reference ${WORK}/s.png
+                        --position-bits 12
+                RESULT_VARIABLE rc ERROR_VARIABLE err)
+if(NOT rc EQUAL 2 OR EXISTS ${WORK}/bits.sdvi OR NOT err MATCHES "excludes")
+  message(FATAL_ERROR "compress --reference --position-bits: exit ${rc}, stderr: ${err}")
 endif()

@@ -88,6 +88,13 @@ StatusOr<RateResult> CompressForRate(const VectorizeResult& vectorized, const Ra
                                      const Raster* mask, const ColorFitOptions& fit,
                                      const RateOptions& options);
 
+// CompressForRate for an image without its vectorizer run (a raw .sdvi file and the image it
+// was made from: `sdvi compress --reference`): the fit's PSNR is FileQualityPsnr of image,
+// the slope options.slope_db or, with no history, 4 dB; the colours are refitted with the
+// default colour-fit options (the vectorizer's). Errors: kInvalidArgument when source's size
+// is not image's, those of CompressForRate.
+StatusOr<RateResult> CompressImageForRate(const Image& image, const Raster& source, const RateOptions& options);
+
 // ---- Targets a user sets (spec/RATE.md 4) ---------------------------------------------
 
 // Pixels per vertex for a quality 0..100: 400 x (1/100)^(quality/100), i.e. 400 at 0, 40 at

@@ -12,6 +12,12 @@
 
 namespace sdvi {
 
+// Worker threads when the caller names none: the cores, at most 8.
+inline int DefaultThreads() {
+  const unsigned cores = std::thread::hardware_concurrency();
+  return cores == 0 ? 1 : int(cores < 8 ? cores : 8);
+}
+
 // Runs task(k) for k = 0 .. count - 1: task 0 on the calling thread, each other task on a
 // thread of its own. A thread that cannot be started (std::system_error, or std::bad_alloc
 // for its stack: an address-space limit such as --max-memory refuses it) leaves its task to
