@@ -73,6 +73,14 @@ for m in duplicate_triangle:duplicate_triangle non_manifold:non_manifold_edge fo
   expect "${m#*:}" "${m%%:*}.json" "$WORK/m.sdvi" -- convert "$DATA/bad/${m%%:*}.json" "$WORK/m.sdvi"
 done
 
+# compress --reference: a reference that is no image, or is cut short, is named; nothing written.
+: >"$WORK/empty.png"
+"$SDVI" render "$GOLDEN" -o "$WORK/gref.png" --quiet
+head -c "$(( $(stat -c %s "$WORK/gref.png") / 2 ))" "$WORK/gref.png" >"$WORK/half.png"
+for ref in empty.png half.png; do
+  expect "" "$ref" "$WORK/o.sdvi" -- compress "$GOLDEN" -o "$WORK/o.sdvi" --reference "$WORK/$ref"
+done
+
 # Output paths (issue 16, cases 2 and 6): checked before any work, inputs never replaced,
 # non-regular targets written through, symlinks followed.
 fail() { failures=$((failures + 1)); echo "FAIL: $*" >&2; }
@@ -80,7 +88,8 @@ fail() { failures=$((failures + 1)); echo "FAIL: $*" >&2; }
 cp "$WORK/s.png" "$WORK/keep.png"
 cp "$GOLDEN" "$WORK/g.sdvi"
 for c in "vectorize $WORK/s.png -o $WORK/s.png" "vectorize $WORK/s.png -o $WORK/v.sdvi --report $WORK/s.png" \
-         "render $WORK/g.sdvi -o $WORK/g.sdvi" "convert $WORK/g.sdvi $WORK/g.sdvi" "compress $WORK/g.sdvi -o $WORK/g.sdvi"; do
+         "render $WORK/g.sdvi -o $WORK/g.sdvi" "convert $WORK/g.sdvi $WORK/g.sdvi" "compress $WORK/g.sdvi -o $WORK/g.sdvi" \
+         "compress $WORK/g.sdvi -o $WORK/s.png --reference $WORK/s.png"; do
   cases=$((cases + 1))
   # shellcheck disable=SC2086
   "$SDVI" $c >/dev/null 2>"$WORK/err.txt"; rc=$?
