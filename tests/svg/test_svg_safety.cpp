@@ -274,6 +274,35 @@ TEST_CASE("svg: dashes over max_dashes are refused before librsvg draws them", "
   }
 }
 
+TEST_CASE("svg: the dash estimate counts a squashed stroke's length in user units", "[svg][hostile]") {
+  // 6e7 user units of dashed outline squashed to 60 px (1.2e8 dashes, seconds in cairo):
+  // sqrt |det| (1.5e-3) would estimate 8e4 dashes; the smaller scale (1e-6) gives 1.2e8.
+  sdvi::SvgArtworkOptions options;
+  for (const std::string& squash : {std::string("scale(2.2,0.000001)"), std::string("matrix(0,0.000001,2.2,0,0,0)"),
+                                    std::string("rotate(30) scale(1,0.000001) rotate(-30)")}) {
+    SvgError error = SvgError::kNone;
+    auto document = sdvi::LoadSvg(Svg("<g transform=\"" + squash + "\"><path d=\"M0 0 L20 0 L20 60000000\" "
+                                      "fill=\"none\" stroke=\"black\" stroke-width=\"3\" stroke-dasharray=\"0.5 0.5\"/></g>"
+                                      "<rect x=\"10\" y=\"10\" width=\"20\" height=\"20\" fill=\"blue\"/>"),
+                                  "squashed.svg", {}, &error);
+    REQUIRE(document.ok());
+    const auto start = std::chrono::steady_clock::now();
+    auto refused = sdvi::ImportSvgArtwork(*document, options, &error);
+    INFO(squash);
+    REQUIRE_FALSE(refused.ok());
+    CHECK(error == SvgError::kTooManyDashes);
+    CHECK(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < 5);
+  }
+  // Undashed, the same drawing imports.
+  SvgError error = SvgError::kNone;
+  auto plain = sdvi::LoadSvg(Svg("<g transform=\"scale(2.2,0.000001)\"><path d=\"M0 0 L20 0 L20 60000000\" "
+                                 "fill=\"none\" stroke=\"black\" stroke-width=\"3\"/></g>"
+                                 "<rect x=\"10\" y=\"10\" width=\"20\" height=\"20\" fill=\"blue\"/>"),
+                             "plain.svg", {}, &error);
+  REQUIRE(plain.ok());
+  CHECK(sdvi::ImportSvgArtwork(*plain, options, &error).ok());
+}
+
 TEST_CASE("svg: the dash estimate counts dash lengths in user units", "[svg]") {
   auto shortest = [](const std::string& body) {
     auto document = sdvi::LoadSvg(Svg(body), "dash.svg", {});

@@ -6,7 +6,8 @@
 //   x y w h rectangle      a closed box      fill[+] stroke[+] clip[+]   the painting
 //   //LINE_CAP_x set-line-cap (the stroke's cap),
 //   w set-line-width, [a b c d e f] | identity set-matrix, sx sy scale, [...] transform:
-//                          the stroke width in device pixels = width x sqrt(|det CTM|)
+//                          the stroke width in device pixels = width x sqrt(|det CTM|);
+//                          the CTM's smaller singular value bounds the dash estimate
 //   context ... pop, save ... restore: graphics-state scopes. Between linear / radial /
 //   pattern / mesh and the set-source that consumes it, set-matrix is the pattern's.
 //   w h //CONTENT similar dup /NAME exch def context ... pop: a surface drawn apart (group
@@ -196,6 +197,8 @@ struct GraphicsState {
   double line_width = 2.0;  // cairo's default
   SvgLineCap line_cap = SvgLineCap::kButt;  // cairo's default
   double det = 1.0;         // |det| of the CTM
+  // The CTM's linear part in cairo's order (xx, yx, xy, yy): x' = xx x + xy y, y' = yx x + yy y.
+  std::array<double, 4> linear{1, 0, 0, 1};
   // The source, when it is a repeated pattern: its tile surface and the pattern's matrix
   // (device -> tile space; cairo hands patterns to the script surface in device space).
   std::string tiled;
@@ -205,6 +208,20 @@ struct GraphicsState {
 // p through the cairo matrix m: (m0 x + m2 y + m4, m1 x + m3 y + m5).
 Point2 Apply(const std::array<double, 6>& m, Point2 p) {
   return {m[0] * p.x + m[2] * p.y + m[4], m[1] * p.x + m[3] * p.y + m[5]};
+}
+
+// The smaller singular value of m's linear part: the fewest output units a user unit
+// becomes in any direction (0 for a singular m).
+double SmallestScale(double xx, double yx, double xy, double yy) {
+  const double sum = xx * xx + yx * yx + xy * xy + yy * yy;
+  const double det = xx * yy - yx * xy;
+  const double root = std::sqrt(std::max(0.0, sum * sum - 4 * det * det));
+  return std::sqrt(std::max(0.0, (sum - root) / 2));
+}
+
+// The linear part of m first, then c (cairo_transform and cairo_scale: the CTM c becomes c m).
+std::array<double, 4> AfterLinear(const std::array<double, 4>& c, double m0, double m1, double m2, double m3) {
+  return {c[0] * m0 + c[2] * m1, c[1] * m0 + c[3] * m1, c[0] * m2 + c[2] * m3, c[1] * m2 + c[3] * m3};
 }
 
 // The inverse of m; false when it is singular.
@@ -332,6 +349,7 @@ class ScriptReader {
     shape.paint = paint;
     const GraphicsState& g = states_.back();
     shape.scale = std::sqrt(g.det);
+    shape.min_scale = SmallestScale(g.linear[0], g.linear[1], g.linear[2], g.linear[3]);
     shape.stroke_width = paint == SvgPaint::kStroke ? g.line_width * shape.scale : 0;
     shape.line_cap = g.line_cap;
     for (const SvgOutline& o : path_) {
@@ -417,6 +435,7 @@ class ScriptReader {
     shapes_.pop_back();
     dropped_.pop_back();
     const double scale = std::sqrt(std::abs(to_device[0] * to_device[3] - to_device[1] * to_device[2]));
+    const double min_scale = SmallestScale(to_device[0], to_device[1], to_device[2], to_device[3]);
     std::vector<Segment> fill_segments;  // of every copy's fills, in device space
     std::vector<SvgShape> others;        // copies of the tile's strokes and clips
     for (double j = std::floor(v0); j <= std::floor(v1); ++j) {
@@ -430,6 +449,7 @@ class ScriptReader {
           copy.tiled = true;
           copy.paint = source.paint;
           copy.scale = source.scale * scale;
+          copy.min_scale = source.min_scale * min_scale;  // at most the product's smaller singular value
           copy.stroke_width = source.stroke_width * scale;
           for (const SvgOutline& o : source.outlines) {
             // Segments whose middle lies outside the tile are clipped away by the tile.
@@ -465,6 +485,7 @@ class ScriptReader {
     lines.paint = SvgPaint::kFill;
     lines.tiled = true;
     lines.scale = painted.scale * scale;
+    lines.min_scale = painted.min_scale * min_scale;
     lines.outlines = ChainSegments(std::move(fill_segments));
     if (!lines.outlines.empty()) {
       shapes_.push_back(std::move(lines));
@@ -609,10 +630,13 @@ class ScriptReader {
       std::copy(array_.begin(), array_.end(), pattern_matrix_.begin());
     } else if (t == "set-matrix" && have_array_ && array_.size() == 6) {
       g.det = std::abs(array_[0] * array_[3] - array_[1] * array_[2]);
+      g.linear = {array_[0], array_[1], array_[2], array_[3]};
     } else if (t == "transform" && have_array_ && array_.size() == 6) {
       g.det *= std::abs(array_[0] * array_[3] - array_[1] * array_[2]);
+      g.linear = AfterLinear(g.linear, array_[0], array_[1], array_[2], array_[3]);
     } else if (t == "scale" && Take(2, a)) {
       g.det *= std::abs(a[0] * a[1]);
+      g.linear = AfterLinear(g.linear, a[0], 0, 0, a[1]);
     } else if (t == "context" || t == "save") {
       states_.push_back(t == "save" ? g : GraphicsState());
     } else if ((t == "pop" || t == "restore") && states_.size() > 1) {
@@ -710,7 +734,8 @@ StatusOr<SvgGeometry> TraceSvgGeometry(const SvgDocument& document, int width, i
   geometry.incomplete = message;
   if (document.shortest_dash > 0) {
     // Upper estimate: every stroke dashed with the shortest dash; the control polygon is at
-    // least as long as the curve.
+    // least as long as the curve, and a device length is at most min_scale times the user
+    // length (a stroke squashed in one direction is long in user units).
     for (const SvgShape& shape : geometry.shapes) {
       if (shape.paint != SvgPaint::kStroke) continue;
       double length = 0;
@@ -719,7 +744,7 @@ StatusOr<SvgGeometry> TraceSvgGeometry(const SvgDocument& document, int width, i
           length += std::hypot(o.points[k].x - o.points[k - 1].x, o.points[k].y - o.points[k - 1].y);
         }
       }
-      if (length > 0) geometry.dashes += length / (document.shortest_dash * shape.scale);
+      if (length > 0) geometry.dashes += length / (document.shortest_dash * shape.min_scale);
     }
   }
   return geometry;

@@ -136,6 +136,7 @@ struct SvgShape {
   double stroke_width = 0;
   SvgLineCap line_cap = SvgLineCap::kButt;  // a stroke's
   double scale = 1;  // output pixels per user unit where it was painted (sqrt |det| of the CTM)
+  double min_scale = 1;  // ... in the direction it shrinks most (the CTM's smaller singular value)
   std::vector<SvgOutline> outlines;
   // Copied from a pattern's tiles over a fill (spec/SVG.md, section 1, "Patterns"): a copy
   // of a tile's stroke or clip, or (paint kFill) the edges of the tiles' fills chained
