@@ -69,11 +69,7 @@ int Compress(CodecArgs& a) {
     j["color_bits"] = color_bits;
     if (rate) {
       j["psnr_db"] = rate->psnr;
-      j["colors_refitted"] = rate->colors_refitted;
-      j["mended_vertices"] = rate->mended_vertices;
-      j["colors_decorrelated"] = rate->colors_decorrelated;
-      j["slope_db"] = rate->slope_db;
-      j["candidates"] = rate->evaluations;
+      j["rate"] = nlohmann::json::parse(RateChoicesJson(*rate, -1));
     }
     std::printf("%s\n", j.dump(2).c_str());
   } else if (!a.quiet) {

@@ -6,6 +6,18 @@
 #include "sdvi/rate.h"
 
 namespace sdvi {
+namespace {
+
+nlohmann::json RateChoices(const RateResult& c) {
+  return {{"position_bits", c.position_bits},     {"color_bits", c.color_bits},
+          {"colors_refitted", c.colors_refitted}, {"mended_vertices", c.mended_vertices},
+          {"colors_decorrelated", c.colors_decorrelated}, {"slope_db", c.slope_db},
+          {"candidates", c.evaluations}};
+}
+
+}  // namespace
+
+std::string RateChoicesJson(const RateResult& choices, int indent) { return RateChoices(choices).dump(indent); }
 
 std::string VectorizedFileReportJson(const VectorizedFile& made, const std::string& input, const std::string& output,
                                      int indent) {
@@ -50,16 +62,8 @@ std::string VectorizedFileReportJson(const VectorizedFile& made, const std::stri
                            {"history", history},
                            {"fit_psnr_db", r.fit_psnr}};
   if (made.compressed) {
-    const RateResult& c = made.choices;
-    nlohmann::json rate;
+    nlohmann::json rate = RateChoices(made.choices);
     if (made.targeted) rate["vectorize_runs"] = made.vectorize_runs;
-    rate["position_bits"] = c.position_bits;
-    rate["color_bits"] = c.color_bits;
-    rate["colors_refitted"] = c.colors_refitted;
-    rate["mended_vertices"] = c.mended_vertices;
-    rate["colors_decorrelated"] = c.colors_decorrelated;
-    rate["slope_db"] = c.slope_db;
-    rate["candidates"] = c.evaluations;
     report["rate"] = rate;
   }
   if (made.targeted) {

@@ -160,5 +160,7 @@ StatusOr<VectorizedFile> VectorizeToFile(const Raster& source, const Raster* mas
 // and output are the names as given; seconds.load of made's report counts in time_s.
 std::string VectorizedFileReportJson(const VectorizedFile& made, const std::string& input, const std::string& output,
                                      int indent);
+// The rate control's choices as the report's `rate` object (also `sdvi compress --json`'s).
+std::string RateChoicesJson(const RateResult& choices, int indent);
 
 }  // namespace sdvi
