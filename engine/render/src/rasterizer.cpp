@@ -41,7 +41,7 @@ ScratchArray<FixedPoint> ToFixedAll(const std::vector<Vertex>& fine, const Viewp
 }
 
 RowBandBins BinTrianglesByRowBand(const std::vector<Triangle>& triangles, const ScratchArray<FixedPoint>& pts,
-                                  int width, int height, int band_rows, int threads) {
+                                  int height, int band_rows, int threads) {
   RowBandBins bins;
   bins.band_rows = std::max(1, band_rows);
   const int bands = height > 0 ? (height + bins.band_rows - 1) / bins.band_rows : 0;
@@ -59,12 +59,13 @@ RowBandBins BinTrianglesByRowBand(const std::vector<Triangle>& triangles, const 
   auto in_parallel = [&](auto&& body) { RunTasks(chunks, body); };
   in_parallel([&](int c) {
     std::vector<uint32_t>& n = start[size_t(c)];
-    TriangleSetup s;
     for (size_t t = count * size_t(c) / size_t(chunks), end = count * size_t(c + 1) / size_t(chunks); t < end; ++t) {
       const auto& v = triangles[t].v;
       if (v[0] >= nv || v[1] >= nv || v[2] >= nv) continue;
-      if (!SetupTriangle(pts[v[0]], pts[v[1]], pts[v[2]], width, height, s)) continue;
-      const uint32_t b0 = uint32_t(s.j0 / bins.band_rows), b1 = uint32_t(s.j1 / bins.band_rows);
+      const FixedPoint &p0 = pts[v[0]], &p1 = pts[v[1]], &p2 = pts[v[2]];
+      int j0, j1;
+      if (!p0.valid() || !p1.valid() || !p2.valid() || !CandidateCentres(p0.y, p1.y, p2.y, height, j0, j1)) continue;
+      const uint32_t b0 = uint32_t(j0 / bins.band_rows), b1 = uint32_t(j1 / bins.band_rows);
       range[t] = b0 << 16 | b1;
       for (uint32_t b = b0; b <= b1; ++b) ++n[b];
     }
@@ -130,14 +131,14 @@ void MapPixelsInto(const std::vector<Triangle>& triangles, const std::vector<Ver
   // DrawFineMesh): the lowest index still wins, and a band's pixels stay in cache while
   // its triangles are scanned.
   const RowBandBins bins =
-      BinTrianglesByRowBand(triangles, pts, width, viewport.height, BandRowsFor(width, sizeof(PixelSample)), 0);
+      BinTrianglesByRowBand(triangles, pts, viewport.height, BandRowsFor(width, sizeof(PixelSample)), 0);
   ForEachBand(bins.bands(), 0, viewport.height, [&](int band) {
     const int row0 = band * bins.band_rows, row1 = std::min(viewport.height, row0 + bins.band_rows);
     TriangleSetup s;
     for (uint32_t k = bins.offsets[size_t(band)]; k < bins.offsets[size_t(band) + 1]; ++k) {
       const uint32_t t = bins.triangles[k];
       const auto& v = triangles[t].v;
-      if (!SetupTriangle(pts[v[0]], pts[v[1]], pts[v[2]], width, viewport.height, s)) continue;  // binned: true
+      if (!SetupTriangle(pts[v[0]], pts[v[1]], pts[v[2]], width, viewport.height, s)) continue;  // degenerate, or between pixel columns
       const double inv_area = 1.0 / double(s.area);
       ScanTriangle(s, row0, row1, [&](int i, int j, int64_t e0, int64_t e1, int64_t e2) {
         PixelSample& ps = dense[size_t(j) * width + i];
@@ -428,7 +429,7 @@ void DrawFineMesh(const std::vector<Triangle>& triangles, const std::vector<Vert
                   const std::vector<Edge>* boundary, int threads, bool zero_bands, typename Pixels::Sample* data) {
   const ScratchArray<FixedPoint> pts = ToFixedAll(fine, viewport, threads);
   const int width = viewport.width;
-  const RowBandBins bins = BinTrianglesByRowBand(triangles, pts, width, viewport.height,
+  const RowBandBins bins = BinTrianglesByRowBand(triangles, pts, viewport.height,
                                                  BandRowsFor(width, 4 * sizeof(typename Pixels::Sample)), threads);
   ForEachBand(bins.bands(), threads, viewport.height, [&](int band) {
     const int row0 = band * bins.band_rows, row1 = std::min(viewport.height, row0 + bins.band_rows);
@@ -456,7 +457,7 @@ void DrawFineMesh(const std::vector<Triangle>& triangles, const std::vector<Vert
       }
       const uint32_t t = bins.triangles[k];
       const auto& v = triangles[t].v;
-      if (!SetupTriangle(pts[v[0]], pts[v[1]], pts[v[2]], width, viewport.height, s)) continue;  // binned: true
+      if (!SetupTriangle(pts[v[0]], pts[v[1]], pts[v[2]], width, viewport.height, s)) continue;  // degenerate, or between pixel columns
       const Vertex* cv[3] = {&fine[v[s.slot[0]]], &fine[v[s.slot[1]]], &fine[v[s.slot[2]]]};
       const ColourPlane plane(s, cv);
       ScanSegments(s, row0, row1, [&](const EdgeRows&, FloorWalk left, FloorWalk right, int j_begin, int j_end) {

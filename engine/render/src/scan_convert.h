@@ -70,6 +70,16 @@ struct TriangleSetup {
   int i0, i1, j0, j1;  // inclusive pixel box of candidate centres, clipped to the viewport
 };
 
+// Along one axis, the pixel centres [first, last] between the least and the greatest of the
+// fixed-point coordinates c0, c1, c2, clipped to 0 .. size - 1; false when there is none.
+inline bool CandidateCentres(int64_t c0, int64_t c1, int64_t c2, int size, int& first, int& last) {
+  const int64_t lo = std::max<int64_t>(0, CeilDiv(std::min({c0, c1, c2}) - kHalf, kOne));
+  const int64_t hi = std::min<int64_t>(size - 1, FloorDiv(std::max({c0, c1, c2}) - kHalf, kOne));
+  if (lo > hi) return false;
+  first = int(lo), last = int(hi);
+  return true;
+}
+
 // Fills setup; false when the triangle owns no pixel centre (invalid, degenerate, off-screen).
 inline bool SetupTriangle(const FixedPoint& a, const FixedPoint& b, const FixedPoint& c, int width,
                           int height, TriangleSetup& s) {
@@ -85,14 +95,9 @@ inline bool SetupTriangle(const FixedPoint& a, const FixedPoint& b, const FixedP
     s.x[k] = p[s.slot[k]]->x;
     s.y[k] = p[s.slot[k]]->y;
   }
-  const int64_t minx = std::min({s.x[0], s.x[1], s.x[2]}), maxx = std::max({s.x[0], s.x[1], s.x[2]});
-  const int64_t miny = std::min({s.y[0], s.y[1], s.y[2]}), maxy = std::max({s.y[0], s.y[1], s.y[2]});
-  const int64_t i0 = std::max<int64_t>(0, CeilDiv(minx - kHalf, kOne));
-  const int64_t i1 = std::min<int64_t>(width - 1, FloorDiv(maxx - kHalf, kOne));
-  const int64_t j0 = std::max<int64_t>(0, CeilDiv(miny - kHalf, kOne));
-  const int64_t j1 = std::min<int64_t>(height - 1, FloorDiv(maxy - kHalf, kOne));
-  if (i0 > i1 || j0 > j1) return false;
-  s.i0 = int(i0), s.i1 = int(i1), s.j0 = int(j0), s.j1 = int(j1);
+  if (!CandidateCentres(s.x[0], s.x[1], s.x[2], width, s.i0, s.i1) ||
+      !CandidateCentres(s.y[0], s.y[1], s.y[2], height, s.j0, s.j1))
+    return false;
   for (int k = 0; k < 3; ++k) {
     const int a1 = (k + 1) % 3, a2 = (k + 2) % 3;
     const int64_t dx = s.x[a2] - s.x[a1], dy = s.y[a2] - s.y[a1];
@@ -262,7 +267,8 @@ inline void ForEachRowBand(int height, int threads, Body&& body) {
 // order of their control triangles, which is not spatial: drawn in that order, nearly
 // every span of a 4096-pixel-wide output misses the cache). Band b holds rows
 // [b * band_rows, min(height, (b + 1) * band_rows)) and lists, in increasing index, every
-// triangle whose candidate pixel centres (SetupTriangle's box) meet those rows.
+// triangle with valid vertices whose rows of candidate centres (CandidateCentres) meet
+// those rows; whether it owns a pixel there (SetupTriangle) is left to the drawing.
 struct RowBandBins {
   int band_rows = 1;
   std::vector<uint32_t> offsets{0};  // bands + 1 entries; band b = [offsets[b], offsets[b + 1])
@@ -270,9 +276,9 @@ struct RowBandBins {
   int bands() const { return int(offsets.size()) - 1; }
 };
 
-// The bins of triangles (vertex positions pts) for a width x height output.
+// The bins of triangles (vertex positions pts) for an output of height rows.
 RowBandBins BinTrianglesByRowBand(const std::vector<Triangle>& triangles, const ScratchArray<FixedPoint>& pts,
-                                  int width, int height, int band_rows, int threads);
+                                  int height, int band_rows, int threads);
 
 // Rows a band holds so that its pixels (bytes_per_pixel each) take about 512 KiB, half
 // of a typical L2 cache, and at least 4 rows (measured on x8 renders: 32 rows of 16 KiB a few
