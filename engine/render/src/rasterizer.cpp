@@ -366,16 +366,35 @@ struct ColourPlane {
       e0[k] = double(dx * (kHalf - s.y[a1]) - dy * (kHalf - s.x[a1]));
     }
     const double scale = double(kColourOne) / double(s.area);
-    bool steep = false;
+#if defined(__SSE2__)
+    // The scalar sums below, two channels a register (r, g) and (b, 0): the same products and
+    // sums in the same order, so the same doubles.
+    const __m128d scale2 = _mm_set1_pd(scale), zero = _mm_setzero_pd();
+    __m128d c_rg[3], c_b[3];
+    for (int k = 0; k < 3; ++k) {
+      const __m128 rg = _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&cv[k]->r)));
+      c_rg[k] = _mm_mul_pd(_mm_cvtps_pd(rg), scale2);
+      c_b[k] = _mm_move_sd(zero, _mm_mul_pd(_mm_set1_pd(double(cv[k]->b)), scale2));
+    }
+    auto sum = [&](const double w[3], const __m128d c[3]) {
+      return _mm_add_pd(_mm_add_pd(_mm_mul_pd(_mm_set1_pd(w[0]), c[0]), _mm_mul_pd(_mm_set1_pd(w[1]), c[1])),
+                        _mm_mul_pd(_mm_set1_pd(w[2]), c[2]));
+    };
+    _mm_store_pd(base, sum(e0, c_rg)), _mm_store_pd(base + 2, _mm_move_sd(zero, sum(e0, c_b)));
+    _mm_store_pd(sx, sum(a, c_rg)), _mm_store_pd(sx + 2, _mm_move_sd(zero, sum(a, c_b)));
+    _mm_store_pd(sy, sum(db, c_rg)), _mm_store_pd(sy + 2, _mm_move_sd(zero, sum(db, c_b)));
+#else
     for (int ch = 0; ch < 3; ++ch) {
       const float Vertex::*m = ch == 0 ? &Vertex::r : ch == 1 ? &Vertex::g : &Vertex::b;
       const double c0 = (cv[0]->*m) * scale, c1 = (cv[1]->*m) * scale, c2 = (cv[2]->*m) * scale;
       base[ch] = e0[0] * c0 + e0[1] * c1 + e0[2] * c2;
       sx[ch] = a[0] * c0 + a[1] * c1 + a[2] * c2;
       sy[ch] = db[0] * c0 + db[1] * c1 + db[2] * c2;
-      steep = steep || !(std::abs(sx[ch]) <= kStepLimit);
     }
     base[3] = sx[3] = sy[3] = 0;
+#endif
+    const bool steep = !(std::abs(sx[0]) <= kStepLimit) | !(std::abs(sx[1]) <= kStepLimit) |
+                       !(std::abs(sx[2]) <= kStepLimit);
     Round(sx, kStepLimit, step);
     if (steep) chunk = 1;
   }
