@@ -554,6 +554,9 @@ std::vector<Edge> MeshBoundaryEdges(const std::vector<Triangle>& triangles,
     return tags && (v >= tags->size() || (*tags)[v] == VertexTag::kSmooth);
   };
   for (const Triangle& t : triangles) {
+    // An edge needs two ends that are not smooth: most fine triangles have none or one.
+    const bool s0 = smooth(t.v[0]), s1 = smooth(t.v[1]), s2 = smooth(t.v[2]);
+    if (int(s0) + int(s1) + int(s2) >= 2) continue;
     for (int k = 0; k < 3; ++k) {
       const uint32_t a = t.v[k], b = t.v[(k + 1) % 3];
       if (a == b || smooth(a) || smooth(b)) continue;
