@@ -138,7 +138,8 @@ void MapPixelsInto(const std::vector<Triangle>& triangles, const std::vector<Ver
     for (uint32_t k = bins.offsets[size_t(band)]; k < bins.offsets[size_t(band) + 1]; ++k) {
       const uint32_t t = bins.triangles[k];
       const auto& v = triangles[t].v;
-      if (!SetupTriangle(pts[v[0]], pts[v[1]], pts[v[2]], width, viewport.height, s)) continue;  // degenerate, or between pixel columns
+      // Binned by its rows alone: the set-up rejects a degenerate triangle, or one between columns.
+      if (!SetupTriangle(pts[v[0]], pts[v[1]], pts[v[2]], width, viewport.height, s)) continue;
       const double inv_area = 1.0 / double(s.area);
       ScanTriangle(s, row0, row1, [&](int i, int j, int64_t e0, int64_t e1, int64_t e2) {
         PixelSample& ps = dense[size_t(j) * width + i];
@@ -476,7 +477,8 @@ void DrawFineMesh(const std::vector<Triangle>& triangles, const std::vector<Vert
       }
       const uint32_t t = bins.triangles[k];
       const auto& v = triangles[t].v;
-      if (!SetupTriangle(pts[v[0]], pts[v[1]], pts[v[2]], width, viewport.height, s)) continue;  // degenerate, or between pixel columns
+      // Binned by its rows alone: the set-up rejects a degenerate triangle, or one between columns.
+      if (!SetupTriangle(pts[v[0]], pts[v[1]], pts[v[2]], width, viewport.height, s)) continue;
       const Vertex* cv[3] = {&fine[v[s.slot[0]]], &fine[v[s.slot[1]]], &fine[v[s.slot[2]]]};
       const ColourPlane plane(s, cv);
       ScanSegments(s, row0, row1, [&](const EdgeRows&, FloorWalk left, FloorWalk right, int j_begin, int j_end) {
