@@ -185,12 +185,14 @@ StatusOr<Raster> Render(const Image& image, const RenderOptions& options) {
 
 StatusOr<Raster8> Render8(const Image& image, const RenderOptions& options) {
   const Viewport& vp = options.viewport;
-  // The output's pages mapped beside the refinement, which leaves a core mostly idle
+  // A large output's pages mapped beside the refinement, which leaves a core mostly idle
   // (spec/METHOD.md section 4, item 5), unless one thread is asked for; joined before any
-  // return (declared after out).
+  // return (declared after out). A smaller output is not worth a thread.
+  constexpr int64_t kPrepareBytes = int64_t(4) << 20;
   Raster8 out;
   BackgroundTask prepare;
-  if (options.threads != 1 && CheckViewport(vp).ok()) prepare.Start([&out, &vp] { PrepareRaster8(vp, out); });
+  if (options.threads != 1 && CheckViewport(vp).ok() && int64_t(vp.width) * vp.height * 4 >= kPrepareBytes)
+    prepare.Start([&out, &vp] { PrepareRaster8(vp, out); });
   SDVI_ASSIGN_OR_RETURN(ViewportSurface s, SurfaceForViewport(image, options));
   prepare.Wait();
   if (s.empty) return Raster8(vp.width, vp.height, 4);
