@@ -29,6 +29,13 @@ struct FixedPoint {
 };
 static_assert(kMaxOutputCoord * (1 << kSubpixelBits) < double(INT32_MAX));
 
+// std::llround of v (|v| < 2^31), inlined: the whole part, then one away from zero when the
+// fraction (exact) is at least a half.
+inline int32_t RoundHalfAway(double v) {
+  const double whole = std::trunc(v);
+  return int32_t(whole) + (std::abs(v - whole) >= 0.5 ? (v < 0 ? -1 : 1) : 0);
+}
+
 inline FixedPoint ToFixed(const Vertex& v, const Viewport& vp) {
   const double ox = (double(v.x) - vp.origin_x) * vp.scale_x;
   const double oy = (double(v.y) - vp.origin_y) * vp.scale_y;
@@ -36,8 +43,8 @@ inline FixedPoint ToFixed(const Vertex& v, const Viewport& vp) {
   if (!std::isfinite(ox) || !std::isfinite(oy) || std::abs(ox) > kMaxOutputCoord ||
       std::abs(oy) > kMaxOutputCoord)
     return p;
-  p.x = int32_t(std::llround(ox * double(kOne)));
-  p.y = int32_t(std::llround(oy * double(kOne)));
+  p.x = RoundHalfAway(ox * double(kOne));
+  p.y = RoundHalfAway(oy * double(kOne));
   return p;
 }
 
