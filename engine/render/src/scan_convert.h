@@ -29,11 +29,11 @@ struct FixedPoint {
 };
 static_assert(kMaxOutputCoord * (1 << kSubpixelBits) < double(INT32_MAX));
 
-// std::llround of v (|v| < 2^31), inlined: the whole part, then one away from zero when the
-// fraction (exact) is at least a half.
+// std::llround of v (|v| < 2^31), inlined and without a branch: the whole part, then one away
+// from zero when the fraction (exact) is at least a half.
 inline int32_t RoundHalfAway(double v) {
   const double whole = std::trunc(v);
-  return int32_t(whole) + (std::abs(v - whole) >= 0.5 ? (v < 0 ? -1 : 1) : 0);
+  return int32_t(whole + std::copysign(double(std::abs(v - whole) >= 0.5), v));
 }
 
 inline FixedPoint ToFixed(const Vertex& v, const Viewport& vp) {
