@@ -133,6 +133,28 @@ TEST_CASE("Render8 gives the same bytes for 1 and N threads", "[render][render8]
   }
 }
 
+TEST_CASE("RenderFineMesh8Into a prepared raster writes every byte RenderFineMesh8 does", "[render][render8]") {
+  const Image img = AnnulusImage();  // pixels outside the domain: alpha 0 must be written too
+  const RenderOptions o = AtScale(img, 30.0, 2);
+  LimitSurfaceOptions lso;
+  lso.levels = ChooseRenderLevels(img, o);
+  auto fine = RefineImage(img, lso);
+  REQUIRE(fine.ok());
+  const std::vector<Edge> boundary = MeshBoundaryEdges(fine->triangles, &fine->vertex_tags);
+  const Raster8 direct = RenderFineMesh8(fine->triangles, fine->vertices, o.viewport, &boundary, 2);
+  Raster8 prepared;
+  PrepareRaster8(o.viewport, prepared);
+  REQUIRE(prepared.data.size() == direct.data.size());
+  std::fill(prepared.data.begin(), prepared.data.end(), uint8_t(0xa5));  // storage that is not zero
+  RenderFineMesh8Into(fine->triangles, fine->vertices, o.viewport, &boundary, 2, prepared);
+  CHECK(prepared.width == direct.width);
+  CHECK(prepared.height == direct.height);
+  CHECK(DifferingPixels(prepared.data, direct.data) == 0);
+  auto whole = Render8(img, o);
+  REQUIRE(whole.ok());
+  CHECK(DifferingPixels(whole->data, direct.data) == 0);
+}
+
 TEST_CASE("Render8 rounds halves away from zero, as the PNG writer does", "[render][render8]") {
   GridSpec spec;
   spec.xs = Steps(0, 12, 3);

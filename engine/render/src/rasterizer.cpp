@@ -41,7 +41,7 @@ ScratchArray<FixedPoint> ToFixedAll(const std::vector<Vertex>& fine, const Viewp
 }
 
 RowBandBins BinTrianglesByRowBand(const std::vector<Triangle>& triangles, const ScratchArray<FixedPoint>& pts,
-                                  int width, int height, int band_rows, int threads) {
+                                  int height, int band_rows, int threads) {
   RowBandBins bins;
   bins.band_rows = std::max(1, band_rows);
   const int bands = height > 0 ? (height + bins.band_rows - 1) / bins.band_rows : 0;
@@ -59,12 +59,13 @@ RowBandBins BinTrianglesByRowBand(const std::vector<Triangle>& triangles, const 
   auto in_parallel = [&](auto&& body) { RunTasks(chunks, body); };
   in_parallel([&](int c) {
     std::vector<uint32_t>& n = start[size_t(c)];
-    TriangleSetup s;
     for (size_t t = count * size_t(c) / size_t(chunks), end = count * size_t(c + 1) / size_t(chunks); t < end; ++t) {
       const auto& v = triangles[t].v;
       if (v[0] >= nv || v[1] >= nv || v[2] >= nv) continue;
-      if (!SetupTriangle(pts[v[0]], pts[v[1]], pts[v[2]], width, height, s)) continue;
-      const uint32_t b0 = uint32_t(s.j0 / bins.band_rows), b1 = uint32_t(s.j1 / bins.band_rows);
+      const FixedPoint &p0 = pts[v[0]], &p1 = pts[v[1]], &p2 = pts[v[2]];
+      int j0, j1;
+      if (!p0.valid() || !p1.valid() || !p2.valid() || !CandidateCentres(p0.y, p1.y, p2.y, height, j0, j1)) continue;
+      const uint32_t b0 = uint32_t(j0 / bins.band_rows), b1 = uint32_t(j1 / bins.band_rows);
       range[t] = b0 << 16 | b1;
       for (uint32_t b = b0; b <= b1; ++b) ++n[b];
     }
@@ -130,14 +131,15 @@ void MapPixelsInto(const std::vector<Triangle>& triangles, const std::vector<Ver
   // DrawFineMesh): the lowest index still wins, and a band's pixels stay in cache while
   // its triangles are scanned.
   const RowBandBins bins =
-      BinTrianglesByRowBand(triangles, pts, width, viewport.height, BandRowsFor(width, sizeof(PixelSample)), 0);
+      BinTrianglesByRowBand(triangles, pts, viewport.height, BandRowsFor(width, sizeof(PixelSample)), 0);
   ForEachBand(bins.bands(), 0, viewport.height, [&](int band) {
     const int row0 = band * bins.band_rows, row1 = std::min(viewport.height, row0 + bins.band_rows);
     TriangleSetup s;
     for (uint32_t k = bins.offsets[size_t(band)]; k < bins.offsets[size_t(band) + 1]; ++k) {
       const uint32_t t = bins.triangles[k];
       const auto& v = triangles[t].v;
-      if (!SetupTriangle(pts[v[0]], pts[v[1]], pts[v[2]], width, viewport.height, s)) continue;  // binned: true
+      // Binned by its rows alone: the set-up rejects a degenerate triangle, or one between columns.
+      if (!SetupTriangle(pts[v[0]], pts[v[1]], pts[v[2]], width, viewport.height, s)) continue;
       const double inv_area = 1.0 / double(s.area);
       ScanTriangle(s, row0, row1, [&](int i, int j, int64_t e0, int64_t e1, int64_t e2) {
         PixelSample& ps = dense[size_t(j) * width + i];
@@ -230,6 +232,30 @@ struct BytePixels {
     __m128i c = _mm_add_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(v)),
                               _mm_set_epi32((255 << kColourBits) + kColourOne / 2, kColourOne / 2, kColourOne / 2,
                                             kColourOne / 2));
+    if (n <= 8 && room >= 8) {
+      // Most spans: eight pixels computed, two masked 16-byte rewrites, no branch on n.
+      alignas(16) static constexpr int32_t kFirst[9][8] = {
+          {0, 0, 0, 0, 0, 0, 0, 0},         {-1, 0, 0, 0, 0, 0, 0, 0},        {-1, -1, 0, 0, 0, 0, 0, 0},
+          {-1, -1, -1, 0, 0, 0, 0, 0},      {-1, -1, -1, -1, 0, 0, 0, 0},     {-1, -1, -1, -1, -1, 0, 0, 0},
+          {-1, -1, -1, -1, -1, -1, 0, 0},   {-1, -1, -1, -1, -1, -1, -1, 0},  {-1, -1, -1, -1, -1, -1, -1, -1}};
+      const __m128i c1 = _mm_add_epi32(c, d), c2 = _mm_add_epi32(c1, d), c3 = _mm_add_epi32(c2, d);
+      const __m128i c4 = _mm_add_epi32(c3, d), c5 = _mm_add_epi32(c4, d), c6 = _mm_add_epi32(c5, d);
+      const __m128i c7 = _mm_add_epi32(c6, d);
+      const __m128i b0 = _mm_packus_epi16(
+          _mm_packs_epi32(_mm_srai_epi32(c, kColourBits), _mm_srai_epi32(c1, kColourBits)),
+          _mm_packs_epi32(_mm_srai_epi32(c2, kColourBits), _mm_srai_epi32(c3, kColourBits)));
+      const __m128i b1 = _mm_packus_epi16(
+          _mm_packs_epi32(_mm_srai_epi32(c4, kColourBits), _mm_srai_epi32(c5, kColourBits)),
+          _mm_packs_epi32(_mm_srai_epi32(c6, kColourBits), _mm_srai_epi32(c7, kColourBits)));
+      const __m128i m0 = _mm_load_si128(reinterpret_cast<const __m128i*>(kFirst[n]));
+      const __m128i m1 = _mm_load_si128(reinterpret_cast<const __m128i*>(kFirst[n] + 4));
+      auto* p0 = reinterpret_cast<__m128i*>(px);
+      auto* p1 = reinterpret_cast<__m128i*>(px + 16);
+      const __m128i old0 = _mm_loadu_si128(p0), old1 = _mm_loadu_si128(p1);
+      _mm_storeu_si128(p0, _mm_or_si128(_mm_and_si128(m0, b0), _mm_andnot_si128(m0, old0)));
+      _mm_storeu_si128(p1, _mm_or_si128(_mm_and_si128(m1, b1), _mm_andnot_si128(m1, old1)));
+      return;
+    }
     for (int k = 0; k < n; k += 4, px += 16, room -= 4) {
       const __m128i c1 = _mm_add_epi32(c, d), c2 = _mm_add_epi32(c1, d), c3 = _mm_add_epi32(c2, d);
       const __m128i lo = _mm_packs_epi32(_mm_srai_epi32(c, kColourBits), _mm_srai_epi32(c1, kColourBits));
@@ -341,16 +367,35 @@ struct ColourPlane {
       e0[k] = double(dx * (kHalf - s.y[a1]) - dy * (kHalf - s.x[a1]));
     }
     const double scale = double(kColourOne) / double(s.area);
-    bool steep = false;
+#if defined(__SSE2__)
+    // The scalar sums below, two channels a register (r, g) and (b, 0): the same products and
+    // sums in the same order, so the same doubles.
+    const __m128d scale2 = _mm_set1_pd(scale), zero = _mm_setzero_pd();
+    __m128d c_rg[3], c_b[3];
+    for (int k = 0; k < 3; ++k) {
+      const __m128 rg = _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&cv[k]->r)));
+      c_rg[k] = _mm_mul_pd(_mm_cvtps_pd(rg), scale2);
+      c_b[k] = _mm_move_sd(zero, _mm_mul_pd(_mm_set1_pd(double(cv[k]->b)), scale2));
+    }
+    auto sum = [&](const double w[3], const __m128d c[3]) {
+      return _mm_add_pd(_mm_add_pd(_mm_mul_pd(_mm_set1_pd(w[0]), c[0]), _mm_mul_pd(_mm_set1_pd(w[1]), c[1])),
+                        _mm_mul_pd(_mm_set1_pd(w[2]), c[2]));
+    };
+    _mm_store_pd(base, sum(e0, c_rg)), _mm_store_pd(base + 2, _mm_move_sd(zero, sum(e0, c_b)));
+    _mm_store_pd(sx, sum(a, c_rg)), _mm_store_pd(sx + 2, _mm_move_sd(zero, sum(a, c_b)));
+    _mm_store_pd(sy, sum(db, c_rg)), _mm_store_pd(sy + 2, _mm_move_sd(zero, sum(db, c_b)));
+#else
     for (int ch = 0; ch < 3; ++ch) {
       const float Vertex::*m = ch == 0 ? &Vertex::r : ch == 1 ? &Vertex::g : &Vertex::b;
       const double c0 = (cv[0]->*m) * scale, c1 = (cv[1]->*m) * scale, c2 = (cv[2]->*m) * scale;
       base[ch] = e0[0] * c0 + e0[1] * c1 + e0[2] * c2;
       sx[ch] = a[0] * c0 + a[1] * c1 + a[2] * c2;
       sy[ch] = db[0] * c0 + db[1] * c1 + db[2] * c2;
-      steep = steep || !(std::abs(sx[ch]) <= kStepLimit);
     }
     base[3] = sx[3] = sy[3] = 0;
+#endif
+    const bool steep = !(std::abs(sx[0]) <= kStepLimit) | !(std::abs(sx[1]) <= kStepLimit) |
+                       !(std::abs(sx[2]) <= kStepLimit);
     Round(sx, kStepLimit, step);
     if (steep) chunk = 1;
   }
@@ -404,7 +449,7 @@ void DrawFineMesh(const std::vector<Triangle>& triangles, const std::vector<Vert
                   const std::vector<Edge>* boundary, int threads, bool zero_bands, typename Pixels::Sample* data) {
   const ScratchArray<FixedPoint> pts = ToFixedAll(fine, viewport, threads);
   const int width = viewport.width;
-  const RowBandBins bins = BinTrianglesByRowBand(triangles, pts, width, viewport.height,
+  const RowBandBins bins = BinTrianglesByRowBand(triangles, pts, viewport.height,
                                                  BandRowsFor(width, 4 * sizeof(typename Pixels::Sample)), threads);
   ForEachBand(bins.bands(), threads, viewport.height, [&](int band) {
     const int row0 = band * bins.band_rows, row1 = std::min(viewport.height, row0 + bins.band_rows);
@@ -432,13 +477,24 @@ void DrawFineMesh(const std::vector<Triangle>& triangles, const std::vector<Vert
       }
       const uint32_t t = bins.triangles[k];
       const auto& v = triangles[t].v;
-      if (!SetupTriangle(pts[v[0]], pts[v[1]], pts[v[2]], width, viewport.height, s)) continue;  // binned: true
+      // Binned by its rows alone: the set-up rejects a degenerate triangle, or one between columns.
+      if (!SetupTriangle(pts[v[0]], pts[v[1]], pts[v[2]], width, viewport.height, s)) continue;
       const Vertex* cv[3] = {&fine[v[s.slot[0]]], &fine[v[s.slot[1]]], &fine[v[s.slot[2]]]};
       const ColourPlane plane(s, cv);
-      ScanSpans(s, row0, row1, [&](int j, int i_begin, int i_end, const int64_t*) {
-        plane.Spans(j, i_begin, i_end, [&](int i, int n, const int32_t* c, const int32_t* step) {
-          Pixels::DrawSpan(data + (size_t(j) * width + i) * 4, n, width - i, c, step);
-        });
+      ScanSegments(s, row0, row1, [&](const EdgeRows&, FloorWalk left, FloorWalk right, int j_begin, int j_end) {
+        // Copies in locals: a pixel store may alias whatever is reached through a reference,
+        // which the compiler would then load again after every store.
+        const ColourPlane p = plane;
+        const int i_min = s.i0, i_max = s.i1, w = width;
+        typename Pixels::Sample* const out = data;
+        for (int j = j_begin; j < j_end; ++j, left.Next(), right.Next()) {
+          const int64_t lo = std::max<int64_t>(left.q, i_min), hi = std::min<int64_t>(right.q, i_max);
+          if (lo > hi) continue;
+          typename Pixels::Sample* const row = out + size_t(j) * size_t(w) * 4;
+          p.Spans(j, int(lo), int(hi), [&](int i, int n, const int32_t* c, const int32_t* step) {
+            Pixels::DrawSpan(row + size_t(i) * 4, n, w - i, c, step);
+          });
+        }
       });
     }
   });
@@ -457,6 +513,19 @@ Raster RenderFineMesh(const std::vector<Triangle>& triangles, const std::vector<
   return out;
 }
 
+void PrepareRaster8(const Viewport& viewport, Raster8& out) {
+  out = Raster8();
+  if (!ValidViewport(viewport)) return;
+  out.width = viewport.width, out.height = viewport.height, out.channels = 4;
+  // Left unwritten (DefaultInitAllocator): the bands zero their own rows when drawing.
+  const size_t bytes = size_t(viewport.width) * viewport.height * 4;
+  internal::ReserveLarge(out.data, bytes);
+  out.data.resize(bytes);
+  // One byte a 4 KiB page: the kernel maps (and zeroes) every page now, not under the drawing.
+  uint8_t* data = out.data.data();
+  for (size_t p = 0; p < bytes; p += 4096) data[p] = 0;
+}
+
 Raster8 RenderFineMesh8(const std::vector<Triangle>& triangles, const std::vector<Vertex>& fine,
                         const Viewport& viewport, const std::vector<Edge>* boundary, int threads) {
   if (!ValidViewport(viewport)) return Raster8();
@@ -469,6 +538,16 @@ Raster8 RenderFineMesh8(const std::vector<Triangle>& triangles, const std::vecto
   return out;
 }
 
+void RenderFineMesh8Into(const std::vector<Triangle>& triangles, const std::vector<Vertex>& fine,
+                         const Viewport& viewport, const std::vector<Edge>* boundary, int threads, Raster8& out) {
+  if (!ValidViewport(viewport) || out.width != viewport.width || out.height != viewport.height ||
+      out.channels != 4 || out.data.size() != size_t(viewport.width) * viewport.height * 4) {
+    out = RenderFineMesh8(triangles, fine, viewport, boundary, threads);
+    return;
+  }
+  DrawFineMesh<BytePixels>(triangles, fine, viewport, boundary, threads, true, out.data.data());
+}
+
 std::vector<Edge> MeshBoundaryEdges(const std::vector<Triangle>& triangles,
                                     const std::vector<VertexTag>* tags) {
   std::vector<uint64_t> keys;
@@ -477,6 +556,9 @@ std::vector<Edge> MeshBoundaryEdges(const std::vector<Triangle>& triangles,
     return tags && (v >= tags->size() || (*tags)[v] == VertexTag::kSmooth);
   };
   for (const Triangle& t : triangles) {
+    // An edge needs two ends that are not smooth: most fine triangles have none or one.
+    const bool s0 = smooth(t.v[0]), s1 = smooth(t.v[1]), s2 = smooth(t.v[2]);
+    if (int(s0) + int(s1) + int(s2) >= 2) continue;
     for (int k = 0; k < 3; ++k) {
       const uint32_t a = t.v[k], b = t.v[(k + 1) % 3];
       if (a == b || smooth(a) || smooth(b)) continue;

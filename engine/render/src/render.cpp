@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "sdvi/parallel.h"
 #include "sdvi/render.h"
 #include "sdvi/progress.h"
 #include "sdvi/subdiv.h"
@@ -183,11 +184,20 @@ StatusOr<Raster> Render(const Image& image, const RenderOptions& options) {
 }
 
 StatusOr<Raster8> Render8(const Image& image, const RenderOptions& options) {
-  SDVI_ASSIGN_OR_RETURN(ViewportSurface s, SurfaceForViewport(image, options));
   const Viewport& vp = options.viewport;
+  // A large output's pages mapped beside the refinement, which leaves a core mostly idle
+  // (spec/METHOD.md section 4, item 5), unless one thread is asked for; joined before any
+  // return (declared after out). A smaller output is not worth a thread.
+  constexpr int64_t kPrepareBytes = int64_t(4) << 20;
+  Raster8 out;
+  BackgroundTask prepare;
+  if (options.threads != 1 && CheckViewport(vp).ok() && int64_t(vp.width) * vp.height * 4 >= kPrepareBytes)
+    prepare.Start([&out, &vp] { PrepareRaster8(vp, out); });
+  SDVI_ASSIGN_OR_RETURN(ViewportSurface s, SurfaceForViewport(image, options));
+  prepare.Wait();
   if (s.empty) return Raster8(vp.width, vp.height, 4);
-  Raster8 out = RenderFineMesh8(s.surface.triangles, s.surface.vertices, vp,
-                                options.antialias ? &s.boundary : nullptr, options.threads);
+  RenderFineMesh8Into(s.surface.triangles, s.surface.vertices, vp, options.antialias ? &s.boundary : nullptr,
+                      options.threads, out);
   if (options.progress) options.progress->Done();
   return out;
 }

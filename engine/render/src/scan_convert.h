@@ -29,6 +29,13 @@ struct FixedPoint {
 };
 static_assert(kMaxOutputCoord * (1 << kSubpixelBits) < double(INT32_MAX));
 
+// std::llround of v (|v| < 2^31), inlined and without a branch: the whole part, then one away
+// from zero when the fraction (exact) is at least a half.
+inline int32_t RoundHalfAway(double v) {
+  const double whole = std::trunc(v);
+  return int32_t(whole + std::copysign(double(std::abs(v - whole) >= 0.5), v));
+}
+
 inline FixedPoint ToFixed(const Vertex& v, const Viewport& vp) {
   const double ox = (double(v.x) - vp.origin_x) * vp.scale_x;
   const double oy = (double(v.y) - vp.origin_y) * vp.scale_y;
@@ -36,8 +43,8 @@ inline FixedPoint ToFixed(const Vertex& v, const Viewport& vp) {
   if (!std::isfinite(ox) || !std::isfinite(oy) || std::abs(ox) > kMaxOutputCoord ||
       std::abs(oy) > kMaxOutputCoord)
     return p;
-  p.x = int32_t(std::llround(ox * double(kOne)));
-  p.y = int32_t(std::llround(oy * double(kOne)));
+  p.x = RoundHalfAway(ox * double(kOne));
+  p.y = RoundHalfAway(oy * double(kOne));
   return p;
 }
 
@@ -70,6 +77,16 @@ struct TriangleSetup {
   int i0, i1, j0, j1;  // inclusive pixel box of candidate centres, clipped to the viewport
 };
 
+// Along one axis, the pixel centres [first, last] between the least and the greatest of the
+// fixed-point coordinates c0, c1, c2, clipped to 0 .. size - 1; false when there is none.
+inline bool CandidateCentres(int64_t c0, int64_t c1, int64_t c2, int size, int& first, int& last) {
+  const int64_t lo = std::max<int64_t>(0, CeilDiv(std::min({c0, c1, c2}) - kHalf, kOne));
+  const int64_t hi = std::min<int64_t>(size - 1, FloorDiv(std::max({c0, c1, c2}) - kHalf, kOne));
+  if (lo > hi) return false;
+  first = int(lo), last = int(hi);
+  return true;
+}
+
 // Fills setup; false when the triangle owns no pixel centre (invalid, degenerate, off-screen).
 inline bool SetupTriangle(const FixedPoint& a, const FixedPoint& b, const FixedPoint& c, int width,
                           int height, TriangleSetup& s) {
@@ -85,14 +102,9 @@ inline bool SetupTriangle(const FixedPoint& a, const FixedPoint& b, const FixedP
     s.x[k] = p[s.slot[k]]->x;
     s.y[k] = p[s.slot[k]]->y;
   }
-  const int64_t minx = std::min({s.x[0], s.x[1], s.x[2]}), maxx = std::max({s.x[0], s.x[1], s.x[2]});
-  const int64_t miny = std::min({s.y[0], s.y[1], s.y[2]}), maxy = std::max({s.y[0], s.y[1], s.y[2]});
-  const int64_t i0 = std::max<int64_t>(0, CeilDiv(minx - kHalf, kOne));
-  const int64_t i1 = std::min<int64_t>(width - 1, FloorDiv(maxx - kHalf, kOne));
-  const int64_t j0 = std::max<int64_t>(0, CeilDiv(miny - kHalf, kOne));
-  const int64_t j1 = std::min<int64_t>(height - 1, FloorDiv(maxy - kHalf, kOne));
-  if (i0 > i1 || j0 > j1) return false;
-  s.i0 = int(i0), s.i1 = int(i1), s.j0 = int(j0), s.j1 = int(j1);
+  if (!CandidateCentres(s.x[0], s.x[1], s.x[2], width, s.i0, s.i1) ||
+      !CandidateCentres(s.y[0], s.y[1], s.y[2], height, s.j0, s.j1))
+    return false;
   for (int k = 0; k < 3; ++k) {
     const int a1 = (k + 1) % 3, a2 = (k + 2) % 3;
     const int64_t dx = s.x[a2] - s.x[a1], dy = s.y[a2] - s.y[a1];
@@ -103,9 +115,7 @@ inline bool SetupTriangle(const FixedPoint& a, const FixedPoint& b, const FixedP
   return true;
 }
 
-// Calls span(j, i_begin, i_end, e) for every row j in [row0, row1) that has owned pixel
-// centres, i in [i_begin, i_end] (inclusive); e[k] is the exact edge function E_k at
-// (i_begin, j), and E_k grows by StepX(s, k) per pixel to the right.
+// E_k's growth per pixel to the right.
 inline int64_t StepX(const TriangleSetup& s, int k) { return -(s.y[(k + 2) % 3] - s.y[(k + 1) % 3]) * kOne; }
 
 // floor(m / p) for m = m0, m0 + step, m0 + 2 step, ... (p > 0), with its remainder carried
@@ -133,43 +143,46 @@ struct FloorWalk {
   }
 };
 
-template <typename Span>
-inline void ScanSpans(const TriangleSetup& s, int row0, int row1, Span&& span) {
+// The edge functions of a triangle from row j0 on: E_k(i, j) = a[k] * i + b[k] + (j - j0) *
+// db[k], exact in int64.
+struct EdgeRows {
+  int64_t a[3], b[3], db[3];
+  int j0;
+  int64_t At(int k, int64_t i, int j) const { return a[k] * i + b[k] + int64_t(j - j0) * db[k]; }
+};
+
+// Calls rows(edges, left, right, j_begin, j_end) for the runs of rows of s in [row0, row1)
+// bounded by one left and one right edge (at most two runs, top to bottom): on row j of a
+// run the owned pixel centres are i in [max(left.q, s.i0), min(right.q, s.i1)] (none when
+// that is empty), left and right being the values passed, stepped by Next() once a row.
+template <typename Rows>
+inline void ScanSegments(const TriangleSetup& s, int row0, int row1, Rows&& rows) {
   const int j0 = std::max(s.j0, row0), j1 = std::min(s.j1, row1 - 1);
   if (j0 > j1) return;
-  // E_k(i, j) = a[k] * i + b[k] + (j - j0) * db[k], exact in int64. Pixel i of row j is on
-  // the owned side of edge k iff E_k + bias[k] >= 0: for a[k] > 0 (a left edge) iff
-  // i >= ceil(-(b + bias) / a) = floor((a - 1 - b - bias) / a), for a[k] < 0 (a right edge)
-  // iff i <= floor((b + bias) / -a); each bound walks down the rows (FloorWalk).
-  int64_t a[3], b[3], db[3];
+  // Pixel i of row j is on the owned side of edge k iff E_k + bias[k] >= 0: for a[k] > 0 (a
+  // left edge) iff i >= ceil(-(b + bias) / a) = floor((a - 1 - b - bias) / a), for a[k] < 0
+  // (a right edge) iff i <= floor((b + bias) / -a); each bound walks down the rows (FloorWalk).
+  EdgeRows e;
+  e.j0 = j0;
   for (int k = 0; k < 3; ++k) {
     const int a1 = (k + 1) % 3, a2 = (k + 2) % 3;
     const int64_t dx = s.x[a2] - s.x[a1], dy = s.y[a2] - s.y[a1];
-    a[k] = -dy * kOne;
-    db[k] = dx * kOne;
-    b[k] = dx * (int64_t(j0) * kOne + kHalf - s.y[a1]) - dy * (kHalf - s.x[a1]);
+    e.a[k] = -dy * kOne;
+    e.db[k] = dx * kOne;
+    e.b[k] = dx * (int64_t(j0) * kOne + kHalf - s.y[a1]) - dy * (kHalf - s.x[a1]);
   }
   auto walk_from = [&](int k, int j) {  // edge k's bound from row j on
-    const int64_t t = b[k] + int64_t(j - j0) * db[k] + s.bias[k];
-    return a[k] > 0 ? FloorWalk(a[k] - 1 - t, -db[k], a[k]) : FloorWalk(t, db[k], -a[k]);
-  };
-  auto emit = [&](int j, int64_t lo, int64_t hi) {
-    lo = std::max<int64_t>(lo, s.i0), hi = std::min<int64_t>(hi, s.i1);
-    if (lo > hi) return;
-    const int64_t dj = j - j0;
-    const int64_t e[3] = {a[0] * lo + b[0] + dj * db[0], a[1] * lo + b[1] + dj * db[1], a[2] * lo + b[2] + dj * db[2]};
-    span(j, int(lo), int(hi), e);
+    const int64_t t = e.b[k] + int64_t(j - j0) * e.db[k] + s.bias[k];
+    return e.a[k] > 0 ? FloorWalk(e.a[k] - 1 - t, -e.db[k], e.a[k]) : FloorWalk(t, e.db[k], -e.a[k]);
   };
   // Rows [j_begin, j_end) bounded by the left edge l and the right edge r alone.
-  auto rows = [&](int l, int r, int j_begin, int j_end) {
-    if (j_begin >= j_end) return;
-    FloorWalk left = walk_from(l, j_begin), right = walk_from(r, j_begin);
-    for (int j = j_begin; j < j_end; ++j, left.Next(), right.Next()) emit(j, left.q, right.q);
+  auto run = [&](int l, int r, int j_begin, int j_end) {
+    if (j_begin < j_end) rows(e, walk_from(l, j_begin), walk_from(r, j_begin), j_begin, j_end);
   };
   int lefts[3], rights[3], n_left = 0, n_right = 0, flat = -1;
   for (int k = 0; k < 3; ++k) {
-    if (a[k] > 0) lefts[n_left++] = k;
-    else if (a[k] < 0) rights[n_right++] = k;
+    if (e.a[k] > 0) lefts[n_left++] = k;
+    else if (e.a[k] < 0) rights[n_right++] = k;
     else flat = k;
   }
   if (flat >= 0) {
@@ -179,8 +192,8 @@ inline void ScanSpans(const TriangleSetup& s, int row0, int row1, Span&& span) {
     const bool on_centres = on_row * kOne + kHalf == s.y[(flat + 1) % 3];
     const bool skip = on_centres && s.bias[flat] < 0;
     const int skip_row = skip && on_row >= j0 && on_row <= j1 ? int(on_row) : j1 + 1;
-    rows(lefts[0], rights[0], j0, skip_row);
-    rows(lefts[0], rights[0], skip_row + 1, j1 + 1);
+    run(lefts[0], rights[0], j0, skip_row);
+    run(lefts[0], rights[0], skip_row + 1, j1 + 1);
     return;
   }
   // One edge alone on its side spans every row (the long edge); the two on the other side
@@ -198,10 +211,28 @@ inline void ScanSpans(const TriangleSetup& s, int row0, int row1, Span&& span) {
   const int upper = s.y[other0] < s.y[m] ? short0 : short1, lower = upper == short0 ? short1 : short0;
   // The first row whose centre is at or below m.
   const int jm = int(std::clamp<int64_t>(CeilDiv(s.y[m] - kHalf, kOne), j0, int64_t(j1) + 1));
-  for (const auto& [edge, j_begin, j_end] : {std::tuple{upper, j0, jm}, std::tuple{lower, jm, j1 + 1}}) {
-    if (long_left) rows(long_edge, edge, j_begin, j_end);
-    else rows(edge, long_edge, j_begin, j_end);
+  if (long_left) {
+    run(long_edge, upper, j0, jm);
+    run(long_edge, lower, jm, j1 + 1);
+  } else {
+    run(upper, long_edge, j0, jm);
+    run(lower, long_edge, jm, j1 + 1);
   }
+}
+
+// Calls span(j, i_begin, i_end, e) for every row j in [row0, row1) that has owned pixel
+// centres, i in [i_begin, i_end] (inclusive); e[k] is the exact edge function E_k at
+// (i_begin, j), and E_k grows by StepX(s, k) per pixel to the right.
+template <typename Span>
+inline void ScanSpans(const TriangleSetup& s, int row0, int row1, Span&& span) {
+  ScanSegments(s, row0, row1, [&](const EdgeRows& e, FloorWalk left, FloorWalk right, int j_begin, int j_end) {
+    for (int j = j_begin; j < j_end; ++j, left.Next(), right.Next()) {
+      const int64_t lo = std::max<int64_t>(left.q, s.i0), hi = std::min<int64_t>(right.q, s.i1);
+      if (lo > hi) continue;
+      const int64_t at[3] = {e.At(0, lo, j), e.At(1, lo, j), e.At(2, lo, j)};
+      span(j, int(lo), int(hi), at);
+    }
+  });
 }
 
 // Calls visit(i, j, e0, e1, e2) for every owned pixel centre of s in rows [row0, row1),
@@ -243,7 +274,8 @@ inline void ForEachRowBand(int height, int threads, Body&& body) {
 // order of their control triangles, which is not spatial: drawn in that order, nearly
 // every span of a 4096-pixel-wide output misses the cache). Band b holds rows
 // [b * band_rows, min(height, (b + 1) * band_rows)) and lists, in increasing index, every
-// triangle whose candidate pixel centres (SetupTriangle's box) meet those rows.
+// triangle with valid vertices whose rows of candidate centres (CandidateCentres) meet
+// those rows; whether it owns a pixel there (SetupTriangle) is left to the drawing.
 struct RowBandBins {
   int band_rows = 1;
   std::vector<uint32_t> offsets{0};  // bands + 1 entries; band b = [offsets[b], offsets[b + 1])
@@ -251,9 +283,9 @@ struct RowBandBins {
   int bands() const { return int(offsets.size()) - 1; }
 };
 
-// The bins of triangles (vertex positions pts) for a width x height output.
+// The bins of triangles (vertex positions pts) for an output of height rows.
 RowBandBins BinTrianglesByRowBand(const std::vector<Triangle>& triangles, const ScratchArray<FixedPoint>& pts,
-                                  int width, int height, int band_rows, int threads);
+                                  int height, int band_rows, int threads);
 
 // Rows a band holds so that its pixels (bytes_per_pixel each) take about 512 KiB, half
 // of a typical L2 cache, and at least 4 rows (measured on x8 renders: 32 rows of 16 KiB a few

@@ -114,6 +114,18 @@ Raster8 RenderFineMesh8(const std::vector<Triangle>& triangles, const std::vecto
                         const Viewport& viewport, const std::vector<Edge>* boundary = nullptr,
                         int threads = 0);
 
+// Storage for RenderFineMesh8Into at viewport's size (RGBA), its pages already mapped by the
+// kernel (one byte a page written), its contents otherwise unspecified: Render8 prepares it
+// on a thread of its own while the refinement runs (spec/METHOD.md section 4, item 5).
+// An invalid viewport leaves out empty.
+void PrepareRaster8(const Viewport& viewport, Raster8& out);
+
+// RenderFineMesh8 into out, whose storage PrepareRaster8(viewport, out) made (every byte is
+// written): the same bytes as RenderFineMesh8. Any other out is replaced by RenderFineMesh8's.
+void RenderFineMesh8Into(const std::vector<Triangle>& triangles, const std::vector<Vertex>& fine,
+                         const Viewport& viewport, const std::vector<Edge>* boundary, int threads,
+                         Raster8& out);
+
 // Edges used by exactly one triangle (the domain edge: outer boundary and holes), sorted.
 // When tags is non-null, only edges whose two endpoints are not smooth are considered (a
 // boundary edge is always crease), which makes this cheap on fine meshes.
