@@ -249,15 +249,15 @@ cv::Mat SuppressAndLink(GradientField& g, const cv::Mat& domain, double high, do
       b = BandOffsets();
     }
   }
-  // Hysteresis: keep candidates 8-connected to a strong pixel.
-  cv::Mat edge = cv::Mat::zeros(h, w, CV_8U);
+  // Hysteresis: keep candidates 8-connected to a strong pixel. The pixels reached are
+  // marked in cand itself (no second map), which then becomes the edge map.
+  constexpr uint8_t kReached = 0x80;
   std::vector<int> stack;
   for (int y = 0; y < h; ++y) {
-    const uint8_t* c = cand.ptr<uint8_t>(y);
-    const uint8_t* e = edge.ptr<uint8_t>(y);
+    uint8_t* c = cand.ptr<uint8_t>(y);
     for (int x = 0; x < w; ++x) {
-      if (c[x] != 2 || e[x]) continue;
-      edge.at<uint8_t>(y, x) = 1;
+      if (c[x] != 2) continue;  // not strong, or reached already
+      c[x] |= kReached;
       stack.push_back(y * w + x);
       while (!stack.empty()) {
         int p = stack.back();
@@ -266,14 +266,21 @@ cv::Mat SuppressAndLink(GradientField& g, const cv::Mat& domain, double high, do
         for (int k = 0; k < 8; ++k) {
           int qx = px + kDx[k], qy = py + kDy[k];
           if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
-          if (!cand.at<uint8_t>(qy, qx) || edge.at<uint8_t>(qy, qx)) continue;
-          edge.at<uint8_t>(qy, qx) = 1;
+          uint8_t& q = cand.at<uint8_t>(qy, qx);
+          if (!q || (q & kReached)) continue;
+          q |= kReached;
           stack.push_back(qy * w + qx);
         }
       }
     }
   }
-  return edge;
+  fit_internal::ForEachChunk(size_t(h), kBandRows, threads, [&](size_t, size_t y0, size_t y1) {
+    for (int y = int(y0); y < int(y1); ++y) {
+      uint8_t* c = cand.ptr<uint8_t>(y);
+      for (int x = 0; x < w; ++x) c[x] = (c[x] & kReached) ? 1 : 0;
+    }
+  });
+  return cand;
 }
 
 uint8_t NeighbourBits(const cv::Mat& edge, int x, int y) {
@@ -560,6 +567,57 @@ double PixelBlur(const GradientField& g, int x, int y, double sigma, double* con
   return std::sqrt(std::max(0.0, width * width - base * base));
 }
 
+// What the chains' measurement reads of the gradient at the edge pixels, taken before the
+// gradient's planes are released (chaining and joining need only the edge map): per edge
+// pixel (ascending index y * width + x), its peak offset, normal, blur and contrast.
+struct EdgeMeasures {
+  struct At {
+    float offset, nx, ny;
+    double blur, contrast;
+  };
+  int width = 0;
+  std::vector<uint32_t> pixels;
+  std::vector<At> values;
+
+  const At& Find(int x, int y) const {
+    const uint32_t p = uint32_t(y) * uint32_t(width) + uint32_t(x);
+    return values[size_t(std::lower_bound(pixels.begin(), pixels.end(), p) - pixels.begin())];
+  }
+};
+
+// The measures of every pixel of edge (bands of rows on the threads, gathered in order).
+EdgeMeasures MeasureEdgePixels(const GradientField& g, const cv::Mat& edge, double sigma, int threads) {
+  struct Band {
+    std::vector<uint32_t> pixels;
+    std::vector<EdgeMeasures::At> values;
+  };
+  std::vector<Band> bands(fit_internal::ChunkCount(size_t(g.height), kBandRows));
+  fit_internal::ForEachChunk(size_t(g.height), kBandRows, threads, [&](size_t band, size_t y0, size_t y1) {
+    Band& b = bands[band];
+    for (int y = int(y0); y < int(y1); ++y) {
+      const uint8_t* e = edge.ptr<uint8_t>(y);
+      for (int x = 0; x < g.width; ++x) {
+        if (!e[x]) continue;
+        EdgeMeasures::At at;
+        at.offset = g.OffsetAt(x, y);
+        at.nx = g.nx.at<float>(y, x);
+        at.ny = g.ny.at<float>(y, x);
+        at.blur = PixelBlur(g, x, y, sigma, &at.contrast);
+        b.pixels.push_back(uint32_t(y) * uint32_t(g.width) + uint32_t(x));
+        b.values.push_back(at);
+      }
+    }
+  });
+  EdgeMeasures m;
+  m.width = g.width;
+  for (Band& b : bands) {
+    m.pixels.insert(m.pixels.end(), b.pixels.begin(), b.pixels.end());
+    m.values.insert(m.values.end(), b.values.begin(), b.values.end());
+    b = Band();
+  }
+  return m;
+}
+
 // Otsu's threshold of values in [0, 1] weighted by weights; returns the two class means
 // and the threshold.
 void OtsuTwoClasses(const std::vector<double>& v, const std::vector<double>& wt, double* thr,
@@ -737,6 +795,10 @@ StatusOr<std::vector<FeatureCurve>> DetectFeatures(const Raster& image, const Ra
   const double low = options.low_ratio * high;
   cv::Mat edge = SuppressAndLink(g, edge_domain, high, low, threads);
   Thin(edge);
+  // The chains read the gradient at edge pixels only: those values are kept, the planes
+  // released before chaining (less peak memory).
+  const EdgeMeasures measures = MeasureEdgePixels(g, edge, options.smoothing_sigma, threads);
+  g = GradientField();
   std::vector<Chain> chains = JoinAtJunctions(LinkChains(edge), edge);
 
   // Samples, blur and length per chain, chains in chunks on the threads; the kept ones in
@@ -762,11 +824,11 @@ StatusOr<std::vector<FeatureCurve>> DetectFeatures(const Raster& image, const Ra
       k.samples.reserve(c.pixels.size());
       for (int p : c.pixels) {
         int x = p % w, y = p / w;
-        double d = g.OffsetAt(x, y);
-        k.samples.push_back({x + 0.5 + d * g.nx.at<float>(y, x), y + 0.5 + d * g.ny.at<float>(y, x)});
-        double contrast = 0;
-        blurs.push_back(PixelBlur(g, x, y, options.smoothing_sigma, &contrast));
-        contrasts.push_back(contrast);
+        const EdgeMeasures::At& at = measures.Find(x, y);
+        double d = at.offset;
+        k.samples.push_back({x + 0.5 + d * at.nx, y + 0.5 + d * at.ny});
+        blurs.push_back(at.blur);
+        contrasts.push_back(at.contrast);
       }
       k.length = ChainLength(k.samples, k.closed);
       if (k.length < options.min_chain_length || k.samples.size() < 3) {
