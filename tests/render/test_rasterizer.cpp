@@ -300,3 +300,50 @@ TEST_CASE("Row-band drawing: every pixel is drawn by the lowest-index triangle M
   }
   CHECK(differ == 0);
 }
+
+TEST_CASE("PixelOwners give MapPixels' samples bit for bit, by pixel range and by triangle",
+          "[render][fold][owners]") {
+  // Overlapping triangles of every size, some off-screen, at a non-identity viewport: the
+  // owners' samples, read by ranges of pixels or triangle by triangle, are MapPixels' own.
+  Lcg rng(17);
+  auto uniform = [&rng](double lo, double hi) { return lo + (hi - lo) * rng.Next(); };
+  Viewport vp = Viewport::Identity(310, 270);
+  vp.scale_x = 1.7, vp.scale_y = 1.3, vp.origin_x = -3.25, vp.origin_y = 2.5;
+  std::vector<Vertex> v;
+  std::vector<Triangle> tris;
+  for (uint32_t t = 0; t < 3000; ++t) {
+    const double cx = uniform(-20, 200), cy = uniform(-20, 220);
+    const double size = t % 10 == 0 ? uniform(10, 80) : uniform(0.2, 6);
+    for (int k = 0; k < 3; ++k) v.push_back({float(cx + size * uniform(-1, 1)), float(cy + size * uniform(-1, 1)), 0, 0, 0});
+    tris.push_back({{3 * t, 3 * t + 1, 3 * t + 2}});
+  }
+  const CoverageMap m = MapPixels(tris, v, vp);
+  PixelOwners owners;
+  owners.owner.assign(5, 3);  // stale storage
+  MapPixelOwnersInto(tris, v, vp, owners);
+  REQUIRE(owners.width == vp.width);
+  REQUIRE(owners.height == vp.height);
+  auto same = [](const PixelSample& a, const PixelSample& b) {
+    return a.pixel == b.pixel && a.triangle == b.triangle && a.w0 == b.w0 && a.w1 == b.w1 && a.w2 == b.w2;
+  };
+  std::vector<PixelSample> by_range;
+  const size_t pixels = size_t(vp.width) * vp.height;
+  for (size_t p = 0; p < pixels; p += 997) AppendSamplesInRange(owners, tris, p, std::min(pixels, p + 997), by_range);
+  REQUIRE(by_range.size() == m.samples.size());
+  size_t differ = 0;
+  for (size_t q = 0; q < m.samples.size(); ++q) differ += !same(by_range[q], m.samples[q]);
+  CHECK(differ == 0);
+  std::vector<PixelSample> by_triangle;
+  for (uint32_t t = 0; t < tris.size(); ++t) {
+    const size_t first = by_triangle.size();
+    AppendOwnedSamples(owners, tris, t, by_triangle);
+    for (size_t q = first + 1; q < by_triangle.size(); ++q) CHECK(by_triangle[q - 1].pixel < by_triangle[q].pixel);
+  }
+  REQUIRE(by_triangle.size() == m.samples.size());
+  std::sort(by_triangle.begin(), by_triangle.end(),
+            [](const PixelSample& a, const PixelSample& b) { return a.pixel < b.pixel; });
+  differ = 0;
+  for (size_t q = 0; q < m.samples.size(); ++q) differ += !same(by_triangle[q], m.samples[q]);
+  CHECK(differ == 0);
+  CHECK(m.samples.size() > pixels / 2);
+}

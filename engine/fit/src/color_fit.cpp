@@ -112,9 +112,8 @@ struct BlockScratch {
   std::vector<uint32_t> s_offsets;    // sparse S_T rows: [s_offsets[l], s_offsets[l+1])
   std::vector<uint32_t> s_columns;
   std::vector<double> s_weights;
+  std::vector<PixelSample> samples;  // one fine triangle's (AppendOwnedSamples)
 };
-
-constexpr uint32_t kNoTriangle = ~uint32_t(0);
 
 // Control triangles per chunk of the assembly's blocks (taken in turn by the threads).
 constexpr size_t kBlockChunk = 16;
@@ -143,10 +142,8 @@ inline void PrefetchStencilRows(const StencilTable& stencils, const IndexSets& l
 // U_T); F_T and the products are dense and small.
 void ComputeBlock(size_t t, const IndexSets& fine_of_control, const IndexSets& local_fine,
                   const IndexSets& support, const std::vector<Triangle>& fine_triangles,
-                  const std::vector<uint32_t>& sample_offsets,
-                  const std::vector<PixelSample>& samples, const std::vector<uint32_t>& sample_order,
-                  const Raster& target, const StencilTable& stencils, BlockScratch& scratch,
-                  double* a_out, double* b_out) {
+                  const PixelOwners& owners, const Raster& target, const Raster* mask,
+                  const StencilTable& stencils, BlockScratch& scratch, double* a_out, double* b_out) {
   const uint32_t nl = local_fine.count(t);
   const uint32_t u = support.count(t);
   const uint32_t* lf = local_fine.begin(t);
@@ -156,10 +153,19 @@ void ComputeBlock(size_t t, const IndexSets& fine_of_control, const IndexSets& l
   double* f = scratch.f.data();
   double* g = scratch.g.data();
   bool any = false;
-  const size_t sample_count = sample_order.size();
+  const bool whole = mask == nullptr && !target.has_alpha();
+  const int width = target.width;
+  std::vector<PixelSample>& samples = scratch.samples;
   for (const uint32_t* ft = fine_of_control.begin(t); ft != fine_of_control.begin(t + 1); ++ft) {
-    const uint32_t begin = sample_offsets[*ft], end = sample_offsets[*ft + 1];
-    if (begin == end) continue;
+    // The fine triangle's domain samples, in pixel order.
+    samples.clear();
+    AppendOwnedSamples(owners, fine_triangles, *ft, samples);
+    if (!whole) {
+      std::erase_if(samples, [&](const PixelSample& sm) {
+        return !InDomain(target, mask, int(sm.pixel % width), int(sm.pixel / width));
+      });
+    }
+    if (samples.empty()) continue;
     any = true;
     uint32_t la[3];
     for (int k = 0; k < 3; ++k) {
@@ -167,18 +173,7 @@ void ComputeBlock(size_t t, const IndexSets& fine_of_control, const IndexSets& l
       la[k] = uint32_t(std::find(lf, lf + nl, v) - lf);
     }
     double m[3][3] = {}, r[3][3] = {};
-    for (uint32_t q = begin; q < end; ++q) {
-      // The samples are read through sample_order, scattered over the coverage and the
-      // raster: ask for the sample, then (nearer) its raster pixel, some samples ahead
-      // (fit/src/prefetch.h).
-      if (q + fit_internal::kPrefetchFar < sample_count) {
-        __builtin_prefetch(&samples[sample_order[q + fit_internal::kPrefetchFar]]);
-      }
-      if (q + fit_internal::kPrefetchNear < sample_count) {
-        const uint32_t ahead = samples[sample_order[q + fit_internal::kPrefetchNear]].pixel;
-        __builtin_prefetch(&target.data[size_t(ahead) * size_t(target.channels)]);
-      }
-      const PixelSample& sm = samples[sample_order[q]];
+    for (const PixelSample& sm : samples) {
       const double w[3] = {sm.w0, sm.w1, sm.w2};
       double rgb[3];
       PixelRgb(target, sm.pixel, rgb);
@@ -350,8 +345,8 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
   fit.seconds_surface = SecondsSince(start);
 
   start = Clock::now();
-  if (buffers != nullptr) fit.coverage.samples = std::move(buffers->coverage);
-  MapPixelsInto(fit.surface.triangles, fit.fine, Viewport::Identity(width, height), fit.coverage);
+  if (buffers != nullptr) fit.coverage.owner = std::move(buffers->coverage);
+  MapPixelOwnersInto(fit.surface.triangles, fit.fine, Viewport::Identity(width, height), fit.coverage);
   fit.seconds_coverage = SecondsSince(start);
 
   start = Clock::now();
@@ -505,42 +500,26 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
   const int* columns = matrix.innerIndexPtr();
   double* values = matrix.valuePtr();
   std::fill(values, values + matrix.nonZeros(), 0.0);
-  // Domain samples grouped by fine triangle (stable: pixel order inside a triangle); after
-  // the pattern, so that they are not held beside its scratch (less peak memory).
-  const std::vector<PixelSample>& samples = fit.coverage.samples;
-  std::vector<uint32_t> sample_offsets(num_fine_tris + 1, 0);
-  std::vector<uint8_t> use(samples.size(), 0);
-  // Both passes count or place each sample at its fine triangle, which lies anywhere in the
-  // per-triangle arrays: the entries of samples ahead are asked for first (fit/src/prefetch.h).
-  auto triangle_ahead = [&](size_t q) {
-    return q < samples.size() && samples[q].triangle < num_fine_tris ? samples[q].triangle : kNoTriangle;
-  };
-  for (size_t q = 0; q < samples.size(); ++q) {
-    if (const uint32_t t = triangle_ahead(q + fit_internal::kPrefetchFar); t != kNoTriangle) {
-      __builtin_prefetch(&sample_offsets[t + 1], 1);
-    }
-    const PixelSample& sm = samples[q];
-    if (sm.triangle >= num_fine_tris || sm.pixel >= uint64_t(width) * height) continue;
-    if (!InDomain(target, mask, int(sm.pixel % width), int(sm.pixel / width))) continue;
-    use[q] = 1;
-    ++sample_offsets[sm.triangle + 1];
-  }
-  for (size_t t = 0; t < num_fine_tris; ++t) sample_offsets[t + 1] += sample_offsets[t];
-  fit.domain_pixels = sample_offsets[num_fine_tris];
-  std::vector<uint32_t> sample_order(fit.domain_pixels);
+  // The domain pixels: covered by the fine mesh and in the domain. Each block reads its
+  // fine triangles' samples from the owners (AppendOwnedSamples): no per-pixel grouping is
+  // held.
+  const PixelOwners& owners = fit.coverage;
+  const bool whole = mask == nullptr && !target.has_alpha();
   {
-    std::vector<uint32_t> cursor(sample_offsets.begin(), sample_offsets.end() - 1);
-    for (size_t q = 0; q < samples.size(); ++q) {
-      if (const uint32_t t = triangle_ahead(q + fit_internal::kPrefetchFar); t != kNoTriangle) {
-        __builtin_prefetch(&cursor[t], 1);
+    constexpr size_t kCountRows = 64;
+    std::vector<uint64_t> counts(fit_internal::ChunkCount(size_t(height), kCountRows), 0);
+    fit_internal::ForEachChunk(size_t(height), kCountRows, threads, [&](size_t chunk, size_t y0, size_t y1) {
+      uint64_t n = 0;
+      for (size_t y = y0; y < y1; ++y) {
+        const uint32_t* row = owners.owner.data() + y * size_t(width);
+        for (int x = 0; x < width; ++x) {
+          if (row[x] != PixelOwners::kNoOwner && (whole || InDomain(target, mask, x, int(y)))) ++n;
+        }
       }
-      if (const uint32_t t = triangle_ahead(q + fit_internal::kPrefetchNear); t != kNoTriangle && !sample_order.empty()) {
-        __builtin_prefetch(&sample_order[std::min<size_t>(cursor[t], sample_order.size() - 1)], 1);
-      }
-      if (use[q]) sample_order[cursor[samples[q].triangle]++] = uint32_t(q);
-    }
+      counts[chunk] = n;
+    });
+    for (uint64_t n : counts) fit.domain_pixels += n;
   }
-  std::vector<uint8_t>().swap(use);
 
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(Eigen::Index(num_control), 3);
   auto position = [&](uint32_t row, uint32_t col) {
@@ -573,8 +552,8 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
         if (t + 2 < t1) PrefetchStencilRows(stencils, local_fine, t + 2);
         const size_t u = support.count(t);
         double* a = blocks.data() + block_offset[t - t0];
-        ComputeBlock(t, fine_of_control, local_fine, support, surface.triangles, sample_offsets,
-                     samples, sample_order, target, stencils, scratch[worker], a, a + u * u);
+        ComputeBlock(t, fine_of_control, local_fine, support, surface.triangles, owners, target, mask, stencils,
+                     scratch[worker], a, a + u * u);
       }
     });
     // Scatter: each thread owns a range of rows of A and adds the blocks' rows in triangle
@@ -608,8 +587,7 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
   }
   // The grouping tables are not needed by the solve: release them before it.
   std::vector<double>().swap(blocks);
-  std::vector<uint32_t>().swap(sample_order);
-  std::vector<uint32_t>().swap(sample_offsets);
+  scratch.clear();
   fine_of_control = IndexSets();
   local_fine = IndexSets();
   support = IndexSets();
@@ -672,17 +650,34 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
 
   start = Clock::now();
   fit.fine = EvaluateSurface(fit.surface, image.vertices);
-  // Sum of squared errors: partial sums of fixed chunks of samples, added in chunk order
-  // (the same for any thread count).
+  // Sum of squared errors: partial sums of fixed chunks of samples (covered pixels), added
+  // in chunk order (the same for any thread count). Chunk c: pixels [chunk_pixel[c],
+  // chunk_pixel[c + 1]), holding kSseChunk samples (the last one fewer).
   constexpr size_t kSseChunk = size_t(1) << 16;
-  std::vector<double> partial(fit_internal::ChunkCount(samples.size(), kSseChunk), 0.0);
-  const bool whole = mask == nullptr && !target.has_alpha();
-  fit_internal::ForEachChunk(samples.size(), kSseChunk, threads, [&](size_t chunk, size_t q0, size_t q1) {
+  const size_t pixels = size_t(width) * height;
+  std::vector<size_t> chunk_pixel{0};
+  {
+    size_t covered = 0;
+    for (size_t p = 0; p < pixels; ++p) {
+      if (owners.owner[p] == PixelOwners::kNoOwner) continue;
+      if (covered > 0 && covered % kSseChunk == 0) chunk_pixel.push_back(p);
+      ++covered;
+    }
+    if (covered == 0) chunk_pixel.clear();
+    chunk_pixel.push_back(pixels);
+  }
+  const size_t sse_chunks = chunk_pixel.size() - 1;
+  std::vector<double> partial(sse_chunks, 0.0);
+  std::vector<std::vector<PixelSample>> chunk_samples(static_cast<size_t>(threads));
+  fit_internal::ForEachChunkOnWorkers(sse_chunks, 1, threads, [&](size_t worker, size_t chunk, size_t, size_t) {
+    std::vector<PixelSample>& samples = chunk_samples[worker];
+    samples.clear();
+    AppendSamplesInRange(owners, surface.triangles, chunk_pixel[chunk], chunk_pixel[chunk + 1], samples);
     double sse = 0;
-    for (size_t q = q0; q < q1; ++q) {
+    const size_t q1 = samples.size();
+    for (size_t q = 0; q < q1; ++q) {
       fit_internal::PrefetchSampleData(samples, q, q1, surface.triangles, fit.fine);
       const PixelSample& sm = samples[q];
-      if (sm.triangle >= num_fine_tris || sm.pixel >= uint64_t(width) * height) continue;
       if (!whole && !InDomain(target, mask, int(sm.pixel % width), int(sm.pixel / width))) continue;
       const Triangle& tri = surface.triangles[sm.triangle];
       const Vertex& p0 = fit.fine[tri.v[0]];
@@ -710,17 +705,23 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
 Raster ReconstructRaster(const ColorFit& fit) {
   Raster out(fit.coverage.width, fit.coverage.height, 4);
   const size_t pixels = size_t(out.width) * out.height;
-  for (const PixelSample& sm : fit.coverage.samples) {
-    if (sm.pixel >= pixels || sm.triangle >= fit.surface.triangles.size()) continue;
-    const Triangle& tri = fit.surface.triangles[sm.triangle];
-    const Vertex& p0 = fit.fine[tri.v[0]];
-    const Vertex& p1 = fit.fine[tri.v[1]];
-    const Vertex& p2 = fit.fine[tri.v[2]];
-    float* px = &out.data[size_t(sm.pixel) * 4];
-    px[0] = std::clamp(sm.w0 * p0.r + sm.w1 * p1.r + sm.w2 * p2.r, 0.f, 255.f);
-    px[1] = std::clamp(sm.w0 * p0.g + sm.w1 * p1.g + sm.w2 * p2.g, 0.f, 255.f);
-    px[2] = std::clamp(sm.w0 * p0.b + sm.w1 * p1.b + sm.w2 * p2.b, 0.f, 255.f);
-    px[3] = 1.f;
+  if (fit.coverage.owner.size() != pixels) return out;
+  std::vector<PixelSample> samples;
+  for (int y = 0; y < out.height; ++y) {
+    samples.clear();
+    AppendSamplesInRange(fit.coverage, fit.surface.triangles, size_t(y) * out.width, size_t(y + 1) * out.width,
+                         samples);
+    for (const PixelSample& sm : samples) {
+      const Triangle& tri = fit.surface.triangles[sm.triangle];
+      const Vertex& p0 = fit.fine[tri.v[0]];
+      const Vertex& p1 = fit.fine[tri.v[1]];
+      const Vertex& p2 = fit.fine[tri.v[2]];
+      float* px = &out.data[size_t(sm.pixel) * 4];
+      px[0] = std::clamp(sm.w0 * p0.r + sm.w1 * p1.r + sm.w2 * p2.r, 0.f, 255.f);
+      px[1] = std::clamp(sm.w0 * p0.g + sm.w1 * p1.g + sm.w2 * p2.g, 0.f, 255.f);
+      px[2] = std::clamp(sm.w0 * p0.b + sm.w1 * p1.b + sm.w2 * p2.b, 0.f, 255.f);
+      px[3] = 1.f;
+    }
   }
   return out;
 }

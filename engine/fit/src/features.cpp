@@ -32,10 +32,20 @@ struct GradientField {
   int width = 0, height = 0;
   cv::Mat mag, nx, ny;               // CV_32F
   std::vector<cv::Mat> smoothed;     // smoothed colour channels, CV_32F
-  cv::Mat offset;                    // CV_32F: SuppressAndLink's peak offsets
+  // SuppressAndLink's sub-pixel peak offsets, at its candidates only (the pixels an edge
+  // can take), by ascending pixel index y * width + x: no per-pixel plane.
+  std::vector<uint32_t> offset_pixels;
+  std::vector<float> offsets;
   // The matrices' storage, plane after plane, on huge pages from the first byte (a fresh
   // 4 KiB page costs a fault, slow on virtual machines: sdvi/default_init_allocator.h).
   std::vector<float, DefaultInitAllocator<float>> planes;
+
+  // The peak offset SuppressAndLink found at pixel (x, y); 0 where it found none.
+  float OffsetAt(int x, int y) const {
+    const uint32_t p = uint32_t(y) * uint32_t(width) + uint32_t(x);
+    const auto it = std::lower_bound(offset_pixels.begin(), offset_pixels.end(), p);
+    return it != offset_pixels.end() && *it == p ? offsets[size_t(it - offset_pixels.begin())] : 0.0f;
+  }
 };
 
 float Bilinear(const cv::Mat& m, double x, double y) {
@@ -60,7 +70,8 @@ constexpr size_t kBandRows = 64;
 // smoothed, then the derivatives, the tensor and its eigenvector. The filters run on views
 // of bands of the whole matrices: OpenCV reads the rows around a view as the neighbouring
 // image rows and applies the border only at the image's top and bottom, so every value has
-// the bits of the filters run on the whole image. Scratch lies in planes of g.planes.
+// the bits of the filters run on the whole image. The derivatives are a band's scratch
+// (two band-sized matrices), not whole planes.
 GradientField ComputeGradient(const Raster& image, double sigma, int threads) {
   fit_internal::UseOpenCvBaselineKernels();
   GradientField g;
@@ -69,14 +80,12 @@ GradientField ComputeGradient(const Raster& image, double sigma, int threads) {
   g.height = h;
   const int nc = image.channels >= 3 ? 3 : 1;
   const size_t plane = size_t(w) * size_t(h);
-  g.planes.resize(plane * size_t(5 + nc));  // unwritten: each band writes its own rows
+  g.planes.resize(plane * size_t(3 + nc));  // unwritten: each band writes its own rows
   auto plane_mat = [&](int k) { return cv::Mat(h, w, CV_32F, g.planes.data() + plane * size_t(k)); };
   g.mag = plane_mat(0);
   g.nx = plane_mat(1);
   g.ny = plane_mat(2);
-  g.offset = plane_mat(3);
-  const cv::Mat scratch = plane_mat(4);
-  for (int c = 0; c < nc; ++c) g.smoothed.push_back(plane_mat(5 + c));
+  for (int c = 0; c < nc; ++c) g.smoothed.push_back(plane_mat(3 + c));
   // The channels apart, into mag, nx, ny (free until the tensor), or, unsmoothed, as they are.
   const cv::Mat channel[3] = {g.mag, g.nx, g.ny};
   fit_internal::ForEachChunk(size_t(h), kBandRows, threads, [&](size_t, size_t y0, size_t y1) {
@@ -98,11 +107,11 @@ GradientField ComputeGradient(const Raster& image, double sigma, int threads) {
       }
     });
   }
-  // The tensor [jxx jxy; jxy jyy] in mag, nx, ny, the derivatives in offset and scratch.
+  // The tensor [jxx jxy; jxy jyy] in mag, nx, ny, the derivatives in a band's scratch.
   fit_internal::ForEachChunk(size_t(h), kBandRows, threads, [&](size_t, size_t b0, size_t b1) {
     const int y0 = int(b0), y1 = int(b1);
     for (const cv::Mat& m : channel) m.rowRange(y0, y1).setTo(0.0f);
-    cv::Mat gx = g.offset.rowRange(y0, y1), gy = scratch.rowRange(y0, y1);
+    cv::Mat gx(y1 - y0, w, CV_32F), gy(y1 - y0, w, CV_32F);
     for (int c = 0; c < nc; ++c) {
       const cv::Mat band = g.smoothed[c].rowRange(y0, y1);
       cv::Sobel(band, gx, CV_32F, 1, 0, 3, 1.0 / 8, 0, cv::BORDER_REPLICATE);
@@ -196,20 +205,25 @@ double HighThreshold(const GradientField& g, const cv::Mat& domain, const Featur
 }
 
 // Non-maximum suppression across the edge + hysteresis. Returns the edge map (1 = edge) and
-// fills g.offset, the sub-pixel offset of each edge pixel's peak along its normal.
+// fills g's offsets, the sub-pixel offset of each candidate's peak along its normal.
 cv::Mat SuppressAndLink(GradientField& g, const cv::Mat& domain, double high, double low, int threads) {
   const int w = g.width, h = g.height;
   cv::Mat cand(h, w, CV_8U);  // 1 = candidate, 2 = strong; each band zeroes its rows first
-  fit_internal::ForEachChunk(size_t(h), kBandRows, threads, [&](size_t, size_t y0, size_t y1) {
+  // Each band's candidates and their offsets, concatenated in band order (ascending pixel).
+  struct BandOffsets {
+    std::vector<uint32_t> pixels;
+    std::vector<float> offsets;
+  };
+  std::vector<BandOffsets> band_offsets(fit_internal::ChunkCount(size_t(h), kBandRows));
+  fit_internal::ForEachChunk(size_t(h), kBandRows, threads, [&](size_t band, size_t y0, size_t y1) {
+    BandOffsets& found = band_offsets[band];
     for (int y = int(y0); y < int(y1); ++y) {
       const float* m = g.mag.ptr<float>(y);
       const float* nx = g.nx.ptr<float>(y);
       const float* ny = g.ny.ptr<float>(y);
       const uint8_t* d = domain.empty() ? nullptr : domain.ptr<uint8_t>(y);
       uint8_t* c = cand.ptr<uint8_t>(y);
-      float* off = g.offset.ptr<float>(y);
       std::fill(c, c + w, uint8_t(0));
-      std::fill(off, off + w, 0.0f);
       for (int x = 0; x < w; ++x) {
         if (m[x] < low || (d && !d[x])) continue;
         float a = Bilinear(g.mag, x - nx[x], y - ny[x]);
@@ -218,20 +232,32 @@ cv::Mat SuppressAndLink(GradientField& g, const cv::Mat& domain, double high, do
         if (!(m[x] > a && m[x] >= b)) continue;
         double denom = a - 2.0 * m[x] + b;
         double delta = denom < 0 ? 0.5 * (a - b) / denom : 0.0;
-        off[x] = float(std::clamp(delta, -0.5, 0.5));
+        found.pixels.push_back(uint32_t(y) * uint32_t(w) + uint32_t(x));
+        found.offsets.push_back(float(std::clamp(delta, -0.5, 0.5)));
         c[x] = m[x] >= high ? 2 : 1;
       }
     }
   });
-  // Hysteresis: keep candidates 8-connected to a strong pixel.
-  cv::Mat edge = cv::Mat::zeros(h, w, CV_8U);
+  {
+    size_t total = 0;
+    for (const BandOffsets& b : band_offsets) total += b.pixels.size();
+    g.offset_pixels.reserve(total);
+    g.offsets.reserve(total);
+    for (BandOffsets& b : band_offsets) {
+      g.offset_pixels.insert(g.offset_pixels.end(), b.pixels.begin(), b.pixels.end());
+      g.offsets.insert(g.offsets.end(), b.offsets.begin(), b.offsets.end());
+      b = BandOffsets();
+    }
+  }
+  // Hysteresis: keep candidates 8-connected to a strong pixel. The pixels reached are
+  // marked in cand itself (no second map), which then becomes the edge map.
+  constexpr uint8_t kReached = 0x80;
   std::vector<int> stack;
   for (int y = 0; y < h; ++y) {
-    const uint8_t* c = cand.ptr<uint8_t>(y);
-    const uint8_t* e = edge.ptr<uint8_t>(y);
+    uint8_t* c = cand.ptr<uint8_t>(y);
     for (int x = 0; x < w; ++x) {
-      if (c[x] != 2 || e[x]) continue;
-      edge.at<uint8_t>(y, x) = 1;
+      if (c[x] != 2) continue;  // not strong, or reached already
+      c[x] |= kReached;
       stack.push_back(y * w + x);
       while (!stack.empty()) {
         int p = stack.back();
@@ -240,14 +266,21 @@ cv::Mat SuppressAndLink(GradientField& g, const cv::Mat& domain, double high, do
         for (int k = 0; k < 8; ++k) {
           int qx = px + kDx[k], qy = py + kDy[k];
           if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
-          if (!cand.at<uint8_t>(qy, qx) || edge.at<uint8_t>(qy, qx)) continue;
-          edge.at<uint8_t>(qy, qx) = 1;
+          uint8_t& q = cand.at<uint8_t>(qy, qx);
+          if (!q || (q & kReached)) continue;
+          q |= kReached;
           stack.push_back(qy * w + qx);
         }
       }
     }
   }
-  return edge;
+  fit_internal::ForEachChunk(size_t(h), kBandRows, threads, [&](size_t, size_t y0, size_t y1) {
+    for (int y = int(y0); y < int(y1); ++y) {
+      uint8_t* c = cand.ptr<uint8_t>(y);
+      for (int x = 0; x < w; ++x) c[x] = (c[x] & kReached) ? 1 : 0;
+    }
+  });
+  return cand;
 }
 
 uint8_t NeighbourBits(const cv::Mat& edge, int x, int y) {
@@ -534,6 +567,57 @@ double PixelBlur(const GradientField& g, int x, int y, double sigma, double* con
   return std::sqrt(std::max(0.0, width * width - base * base));
 }
 
+// What the chains' measurement reads of the gradient at the edge pixels, taken before the
+// gradient's planes are released (chaining and joining need only the edge map): per edge
+// pixel (ascending index y * width + x), its peak offset, normal, blur and contrast.
+struct EdgeMeasures {
+  struct At {
+    float offset, nx, ny;
+    double blur, contrast;
+  };
+  int width = 0;
+  std::vector<uint32_t> pixels;
+  std::vector<At> values;
+
+  const At& Find(int x, int y) const {
+    const uint32_t p = uint32_t(y) * uint32_t(width) + uint32_t(x);
+    return values[size_t(std::lower_bound(pixels.begin(), pixels.end(), p) - pixels.begin())];
+  }
+};
+
+// The measures of every pixel of edge (bands of rows on the threads, gathered in order).
+EdgeMeasures MeasureEdgePixels(const GradientField& g, const cv::Mat& edge, double sigma, int threads) {
+  struct Band {
+    std::vector<uint32_t> pixels;
+    std::vector<EdgeMeasures::At> values;
+  };
+  std::vector<Band> bands(fit_internal::ChunkCount(size_t(g.height), kBandRows));
+  fit_internal::ForEachChunk(size_t(g.height), kBandRows, threads, [&](size_t band, size_t y0, size_t y1) {
+    Band& b = bands[band];
+    for (int y = int(y0); y < int(y1); ++y) {
+      const uint8_t* e = edge.ptr<uint8_t>(y);
+      for (int x = 0; x < g.width; ++x) {
+        if (!e[x]) continue;
+        EdgeMeasures::At at;
+        at.offset = g.OffsetAt(x, y);
+        at.nx = g.nx.at<float>(y, x);
+        at.ny = g.ny.at<float>(y, x);
+        at.blur = PixelBlur(g, x, y, sigma, &at.contrast);
+        b.pixels.push_back(uint32_t(y) * uint32_t(g.width) + uint32_t(x));
+        b.values.push_back(at);
+      }
+    }
+  });
+  EdgeMeasures m;
+  m.width = g.width;
+  for (Band& b : bands) {
+    m.pixels.insert(m.pixels.end(), b.pixels.begin(), b.pixels.end());
+    m.values.insert(m.values.end(), b.values.begin(), b.values.end());
+    b = Band();
+  }
+  return m;
+}
+
 // Otsu's threshold of values in [0, 1] weighted by weights; returns the two class means
 // and the threshold.
 void OtsuTwoClasses(const std::vector<double>& v, const std::vector<double>& wt, double* thr,
@@ -711,6 +795,10 @@ StatusOr<std::vector<FeatureCurve>> DetectFeatures(const Raster& image, const Ra
   const double low = options.low_ratio * high;
   cv::Mat edge = SuppressAndLink(g, edge_domain, high, low, threads);
   Thin(edge);
+  // The chains read the gradient at edge pixels only: those values are kept, the planes
+  // released before chaining (less peak memory).
+  const EdgeMeasures measures = MeasureEdgePixels(g, edge, options.smoothing_sigma, threads);
+  g = GradientField();
   std::vector<Chain> chains = JoinAtJunctions(LinkChains(edge), edge);
 
   // Samples, blur and length per chain, chains in chunks on the threads; the kept ones in
@@ -736,11 +824,11 @@ StatusOr<std::vector<FeatureCurve>> DetectFeatures(const Raster& image, const Ra
       k.samples.reserve(c.pixels.size());
       for (int p : c.pixels) {
         int x = p % w, y = p / w;
-        double d = g.offset.at<float>(y, x);
-        k.samples.push_back({x + 0.5 + d * g.nx.at<float>(y, x), y + 0.5 + d * g.ny.at<float>(y, x)});
-        double contrast = 0;
-        blurs.push_back(PixelBlur(g, x, y, options.smoothing_sigma, &contrast));
-        contrasts.push_back(contrast);
+        const EdgeMeasures::At& at = measures.Find(x, y);
+        double d = at.offset;
+        k.samples.push_back({x + 0.5 + d * at.nx, y + 0.5 + d * at.ny});
+        blurs.push_back(at.blur);
+        contrasts.push_back(at.contrast);
       }
       k.length = ChainLength(k.samples, k.closed);
       if (k.length < options.min_chain_length || k.samples.size() < 3) {

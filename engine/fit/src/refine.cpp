@@ -208,7 +208,9 @@ std::vector<float> ErrorMap(const ColorFit& fit, const Raster& target, const Ras
   const int width = target.width, height = target.height;
   const size_t pixels = size_t(width) * height;
   std::vector<float> error(pixels, 0.f);
-  if (fit.coverage.width != width || fit.coverage.height != height) return error;
+  if (fit.coverage.width != width || fit.coverage.height != height || fit.coverage.owner.size() != pixels) {
+    return error;
+  }
   const bool grey = target.channels <= 2;
   const bool whole = mask == nullptr && !target.has_alpha();
   // Uncovered domain pixels: the reconstruction is 0 there.
@@ -225,14 +227,19 @@ std::vector<float> ErrorMap(const ColorFit& fit, const Raster& target, const Ras
       }
     }
   });
-  // Covered pixels: the reconstruction as ReconstructRaster computes it.
-  const std::vector<PixelSample>& samples = fit.coverage.samples;
+  // Covered pixels: the reconstruction as ReconstructRaster computes it, bands of rows'
+  // samples (AppendSamplesInRange) on the threads.
   const std::vector<Triangle>& triangles = fit.surface.triangles;
-  fit_internal::ForEachChunk(samples.size(), size_t(1) << 16, threads, [&](size_t, size_t q0, size_t q1) {
-    for (size_t q = q0; q < q1; ++q) {
+  constexpr size_t kBandRows = 64;
+  std::vector<std::vector<PixelSample>> band_samples(size_t(std::max(1, threads)));
+  fit_internal::ForEachChunkOnWorkers(size_t(height), kBandRows, threads, [&](size_t worker, size_t, size_t y0, size_t y1) {
+    std::vector<PixelSample>& samples = band_samples[worker];
+    samples.clear();
+    AppendSamplesInRange(fit.coverage, triangles, y0 * size_t(width), y1 * size_t(width), samples);
+    const size_t q1 = samples.size();
+    for (size_t q = 0; q < q1; ++q) {
       fit_internal::PrefetchSampleData(samples, q, q1, triangles, fit.fine);
       const PixelSample& sm = samples[q];
-      if (sm.pixel >= pixels || sm.triangle >= triangles.size()) continue;
       const int x = int(sm.pixel % width), y = int(sm.pixel / width);
       if (!whole && !InDomain(target, mask, x, y)) continue;
       const Triangle& tri = triangles[sm.triangle];

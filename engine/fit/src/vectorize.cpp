@@ -322,7 +322,7 @@ StatusOr<VectorizeResult> VectorizeFrom(const Raster& raster, const Raster* mask
     spacing.reference_error = error_sum / double(domain_pixels);
     // Only the error map is needed from here on: release the fit's memory but the
     // coverage's, which the next fit writes into.
-    fit_buffers.coverage = std::move(fit.coverage.samples);
+    fit_buffers.coverage = std::move(fit.coverage.owner);
     fit = ColorFit();
     blocked = BlockedPixels(raster, mask, &mesh, curves, clearance);
     std::vector<Point2> added = SelectRefinementSamples(error, width, height, threshold, spacing,

@@ -167,6 +167,169 @@ void MapPixelsInto(const std::vector<Triangle>& triangles, const std::vector<Ver
   map.samples = std::move(dense);
 }
 
+void MapPixelOwnersInto(const std::vector<Triangle>& triangles, const std::vector<Vertex>& fine,
+                        const Viewport& viewport, PixelOwners& map) {
+  std::vector<uint32_t> owner = std::move(map.owner);  // its storage is reused
+  owner.clear();
+  map = PixelOwners();
+  if (!ValidViewport(viewport)) return;
+  map.width = viewport.width;
+  map.height = viewport.height;
+  const size_t npix = size_t(viewport.width) * size_t(viewport.height);
+  internal::ReserveLarge(owner, npix);
+  owner.assign(npix, PixelOwners::kNoOwner);
+  const ScratchArray<FixedPoint> pts = ToFixedAll(fine, viewport, 0);
+  const int width = viewport.width;
+  // As MapPixelsInto: row bands, each listing its triangles in increasing index, the lowest
+  // index winning a pixel.
+  const RowBandBins bins =
+      BinTrianglesByRowBand(triangles, pts, width, viewport.height, BandRowsFor(width, sizeof(uint32_t)), 0);
+  ForEachBand(bins.bands(), 0, viewport.height, [&](int band) {
+    const int row0 = band * bins.band_rows, row1 = std::min(viewport.height, row0 + bins.band_rows);
+    TriangleSetup s;
+    for (uint32_t k = bins.offsets[size_t(band)]; k < bins.offsets[size_t(band) + 1]; ++k) {
+      const uint32_t t = bins.triangles[k];
+      const auto& v = triangles[t].v;
+      if (!SetupTriangle(pts[v[0]], pts[v[1]], pts[v[2]], width, viewport.height, s)) continue;  // binned: true
+      ScanSpans(s, row0, row1, [&](int j, int i_begin, int i_end, const int64_t*) {
+        uint32_t* row = owner.data() + size_t(j) * width;
+        for (int i = i_begin; i <= i_end; ++i) {
+          if (row[i] == PixelOwners::kNoOwner) row[i] = t;
+        }
+      });
+    }
+  });
+  map.owner = std::move(owner);
+  map.corners.resize(2 * pts.size());
+  for (size_t i = 0; i < pts.size(); ++i) {
+    map.corners[2 * i] = pts[i].x;
+    map.corners[2 * i + 1] = pts[i].y;
+  }
+}
+
+namespace {
+
+// The setup of fine triangle t of map (true: t owns a pixel of map, so it has one).
+bool OwnerSetup(const PixelOwners& map, const std::vector<Triangle>& triangles, uint32_t t, TriangleSetup& s) {
+  const auto& v = triangles[t].v;
+  auto corner = [&](uint32_t i) {
+    FixedPoint p;
+    p.x = map.corners[2 * size_t(i)];
+    p.y = map.corners[2 * size_t(i) + 1];
+    return p;
+  };
+  return SetupTriangle(corner(v[0]), corner(v[1]), corner(v[2]), map.width, map.height, s);
+}
+
+// The exact edge functions of a triangle's setup at pixel centres: E_k(i, j) = step[k] * i +
+// row[k] * j + at0[k], as ScanSpans walks them (spec/METHOD.md 4: barycentric weight of
+// slot k = E_k / area).
+struct EdgeFunctions {
+  int64_t step[3], row[3], at0[3];
+  double inv_area;
+  int slot[3];
+  EdgeFunctions() = default;
+  explicit EdgeFunctions(const TriangleSetup& s) { Set(s.x, s.y, s.slot, s.area); }
+  // From SetupTriangle's corners x, y (in slot order), slots and area (> 0).
+  void Set(const int64_t* x, const int64_t* y, const int* slots, int64_t area) {
+    inv_area = 1.0 / double(area);
+    for (int k = 0; k < 3; ++k) {
+      const int a1 = (k + 1) % 3, a2 = (k + 2) % 3;
+      const int64_t dx = x[a2] - x[a1], dy = y[a2] - y[a1];
+      step[k] = -dy * kOne;
+      row[k] = dx * kOne;
+      at0[k] = dx * (kHalf - y[a1]) - dy * (kHalf - x[a1]);
+      slot[k] = slots[k];
+    }
+  }
+  // SetupTriangle's slots and area for fine triangle t of map, without its pixel box (the
+  // owners give the pixels); false where the triangle has no area.
+  bool SetOwner(const PixelOwners& map, const std::vector<Triangle>& triangles, uint32_t t) {
+    const auto& v = triangles[t].v;
+    const int32_t* c[3] = {&map.corners[2 * size_t(v[0])], &map.corners[2 * size_t(v[1])],
+                           &map.corners[2 * size_t(v[2])]};
+    const int64_t area = (int64_t(c[1][0]) - c[0][0]) * (int64_t(c[2][1]) - c[0][1]) -
+                         (int64_t(c[1][1]) - c[0][1]) * (int64_t(c[2][0]) - c[0][0]);
+    if (area == 0) return false;
+    const int slots[3] = {0, area > 0 ? 1 : 2, area > 0 ? 2 : 1};
+    int64_t x[3], y[3];
+    for (int k = 0; k < 3; ++k) x[k] = c[slots[k]][0], y[k] = c[slots[k]][1];
+    Set(x, y, slots, area > 0 ? area : -area);
+    return true;
+  }
+  void At(int i, int j, int64_t e[3]) const {
+    for (int k = 0; k < 3; ++k) e[k] = step[k] * i + row[k] * j + at0[k];
+  }
+  // MapPixelsInto's sample from the edge functions e at pixel (i, j) = pixel.
+  PixelSample Sample(const int64_t e[3], uint32_t t, size_t pixel) const {
+    float w[3];
+    for (int k = 0; k < 3; ++k) w[slot[k]] = float(double(e[k]) * inv_area);
+    return PixelSample{uint32_t(pixel), t, w[0], w[1], w[2]};
+  }
+};
+
+}  // namespace
+
+void AppendOwnedSamples(const PixelOwners& map, const std::vector<Triangle>& triangles, uint32_t t,
+                        std::vector<PixelSample>& out) {
+  TriangleSetup s;
+  if (!OwnerSetup(map, triangles, t, s)) return;
+  const EdgeFunctions f(s);
+  const size_t width = size_t(map.width);
+  // The pixels of the triangle's box whose owner is t, in pixel order: the owners decide,
+  // no edge test is needed.
+  for (int j = s.j0; j <= s.j1; ++j) {
+    const uint32_t* row = map.owner.data() + size_t(j) * width;
+    int64_t e[3];
+    f.At(s.i0, j, e);
+    for (int i = s.i0; i <= s.i1; ++i, e[0] += f.step[0], e[1] += f.step[1], e[2] += f.step[2]) {
+      if (row[i] == t) out.push_back(f.Sample(e, t, size_t(j) * width + size_t(i)));
+    }
+  }
+}
+
+void AppendSamplesInRange(const PixelOwners& map, const std::vector<Triangle>& triangles, size_t p0, size_t p1,
+                          std::vector<PixelSample>& out) {
+  if (p0 >= p1) return;
+  const size_t width = size_t(map.width);
+  EdgeFunctions f;
+  uint32_t current = PixelOwners::kNoOwner;
+  constexpr size_t kFar = 24, kNear = 8;  // pixels ahead whose triangle, then corners, are asked for
+  // Row by row; along a row of one owner the edge functions step exactly.
+  for (size_t j = p0 / width, row_start = j * width; row_start < p1; ++j, row_start += width) {
+    const size_t i_begin = std::max(p0, row_start) - row_start, i_end = std::min(p1, row_start + width) - row_start;
+    const uint32_t* row = map.owner.data() + row_start;
+    bool stepping = false;  // e holds the edge functions of pixel i - 1 of current
+    int64_t e[3] = {0, 0, 0};
+    for (size_t i = i_begin; i < i_end; ++i) {
+      if (i + kFar < i_end && row[i + kFar] != PixelOwners::kNoOwner) __builtin_prefetch(&triangles[row[i + kFar]]);
+      if (i + kNear < i_end && row[i + kNear] != PixelOwners::kNoOwner) {
+        for (uint32_t v : triangles[row[i + kNear]].v) __builtin_prefetch(&map.corners[2 * size_t(v)]);
+      }
+      const uint32_t t = row[i];
+      if (t == PixelOwners::kNoOwner) {
+        stepping = false;
+        continue;
+      }
+      if (t != current) {
+        if (!f.SetOwner(map, triangles, t)) {  // an owner has an area
+          stepping = false;
+          current = PixelOwners::kNoOwner;
+          continue;
+        }
+        current = t;
+        f.At(int(i), int(j), e);
+      } else if (stepping) {
+        for (int k = 0; k < 3; ++k) e[k] += f.step[k];
+      } else {
+        f.At(int(i), int(j), e);
+      }
+      stepping = true;
+      out.push_back(f.Sample(e, t, row_start + i));
+    }
+  }
+}
+
 namespace {
 
 inline float Clamp255(double v) { return float(v < 0 ? 0 : v > 255 ? 255 : v); }

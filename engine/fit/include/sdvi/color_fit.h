@@ -8,7 +8,8 @@
 // where C_p = (barycentrics of p's centre in its fine triangle) x (the limit stencils of that
 // triangle's three fine vertices), i.e. exactly what the renderer draws at the same level.
 // The pixel -> fine triangle map is MapPixels at the identity viewport: the one rendering
-// uses. Assembly goes through the fine level: per fine triangle the moments
+// uses, held as one owner per pixel (PixelOwners, sdvi/render.h), the weights computed
+// again where they are read. Assembly goes through the fine level: per fine triangle the moments
 // sum w_a w_b and sum w_a I(p) form a fine normal matrix F and right-hand side g, which
 // are projected through the stencil matrix S (fine x control): A = S^T F S, b = S^T g
 // (three right-hand sides R, G, B; one matrix). The solve is conjugate gradients
@@ -53,13 +54,13 @@ struct ColorFitOptions {
 struct ColorFit {
   LimitSurface surface;         // the fine mesh fitted (stencils over the control vertices)
   std::vector<Vertex> fine;     // fine vertices with the fitted colours
-  CoverageMap coverage;         // pixel -> fine triangle, identity viewport
+  PixelOwners coverage;         // pixel -> fine triangle, identity viewport
   uint64_t domain_pixels = 0;   // pixels that entered the least squares
   double sum_squared_error = 0; // of the clamped reconstruction over the domain pixels and
                                 // R, G, B (8-bit units^2)
   // Seconds spent per step.
   double seconds_surface = 0;   // BuildLimitSurface + EvaluateSurface
-  double seconds_coverage = 0;  // MapPixels
+  double seconds_coverage = 0;  // MapPixelOwnersInto
   double seconds_assemble = 0;  // moments, projection through the stencils
   double seconds_solve = 0;     // factorisation and solve
 };
@@ -69,7 +70,7 @@ struct ColorFit {
 // held instead of fresh pages that the kernel must zero first. Scratch: the contents do not
 // matter, and the result is the same as without it.
 struct ColorFitBuffers {
-  std::vector<PixelSample> coverage;  // taken by the next fit; give back a fit's coverage.samples
+  std::vector<uint32_t> coverage;  // taken by the next fit; give back a fit's coverage.owner
 };
 
 // Fits the colours of image.vertices (positions unchanged; with options.warm_start their

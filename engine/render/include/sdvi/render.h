@@ -50,6 +50,31 @@ CoverageMap MapPixels(const std::vector<Triangle>& triangles, const std::vector<
 void MapPixelsInto(const std::vector<Triangle>& triangles, const std::vector<Vertex>& fine,
                    const Viewport& viewport, CoverageMap& map);
 
+// The pixel -> fine triangle map of MapPixels with one owner per pixel and no stored
+// weights: 4 bytes a pixel instead of a PixelSample's 20, for the colour fit, which holds
+// the map across the whole image (spec/METHOD.md 6, "Memory"). owner[j * width + i] is
+// the fine triangle MapPixels gives pixel (i, j), kNoOwner where it gives none; a
+// sample's weights are computed again from its triangle's fixed-point corners with the
+// same exact edge functions, so they are MapPixels' bit for bit.
+struct PixelOwners {
+  static constexpr uint32_t kNoOwner = ~uint32_t(0);
+  int width = 0, height = 0;
+  std::vector<uint32_t> owner;   // width * height
+  std::vector<int32_t> corners;  // x, y of each fine vertex in fixed point (kSubpixelBits
+                                 // below); INT32_MIN where outside the exact range
+};
+
+// MapPixels' owners into map, reusing the storage of map.owner (its contents are discarded).
+void MapPixelOwnersInto(const std::vector<Triangle>& triangles, const std::vector<Vertex>& fine,
+                        const Viewport& viewport, PixelOwners& map);
+// Appends to out the samples MapPixels gives fine triangle t (of the triangles map was made
+// from), in pixel order.
+void AppendOwnedSamples(const PixelOwners& map, const std::vector<Triangle>& triangles, uint32_t t,
+                        std::vector<PixelSample>& out);
+// Appends to out the samples MapPixels gives pixels [p0, p1), in pixel order.
+void AppendSamplesInRange(const PixelOwners& map, const std::vector<Triangle>& triangles, size_t p0, size_t p1,
+                          std::vector<PixelSample>& out);
+
 struct RenderOptions {
   Viewport viewport;   // output size and mapping
   int levels = -1;     // subdivision level; -1 = chosen from the scale (~1 output px)
