@@ -183,14 +183,15 @@ void MapPixelOwnersInto(const std::vector<Triangle>& triangles, const std::vecto
   // As MapPixelsInto: row bands, each listing its triangles in increasing index, the lowest
   // index winning a pixel.
   const RowBandBins bins =
-      BinTrianglesByRowBand(triangles, pts, width, viewport.height, BandRowsFor(width, sizeof(uint32_t)), 0);
+      BinTrianglesByRowBand(triangles, pts, viewport.height, BandRowsFor(width, sizeof(uint32_t)), 0);
   ForEachBand(bins.bands(), 0, viewport.height, [&](int band) {
     const int row0 = band * bins.band_rows, row1 = std::min(viewport.height, row0 + bins.band_rows);
     TriangleSetup s;
     for (uint32_t k = bins.offsets[size_t(band)]; k < bins.offsets[size_t(band) + 1]; ++k) {
       const uint32_t t = bins.triangles[k];
       const auto& v = triangles[t].v;
-      if (!SetupTriangle(pts[v[0]], pts[v[1]], pts[v[2]], width, viewport.height, s)) continue;  // binned: true
+      // Binned by its rows alone: the set-up rejects a degenerate triangle, or one between columns.
+      if (!SetupTriangle(pts[v[0]], pts[v[1]], pts[v[2]], width, viewport.height, s)) continue;
       ScanSpans(s, row0, row1, [&](int j, int i_begin, int i_end, const int64_t*) {
         uint32_t* row = owner.data() + size_t(j) * width;
         for (int i = i_begin; i <= i_end; ++i) {
