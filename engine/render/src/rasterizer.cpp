@@ -101,6 +101,28 @@ bool ValidViewport(const Viewport& vp) {
          vp.scale_x > 0 && vp.scale_y > 0 && std::isfinite(vp.origin_x) && std::isfinite(vp.origin_y);
 }
 
+// The pixel maps' traversal (MapPixelsInto, MapPixelOwnersInto): row bands of cache-sized
+// pixels (pixel_bytes each), each listing its triangles in increasing index, so that the
+// lowest index wins a pixel its first writer claims and a band's pixels stay in cache while
+// its triangles are scanned; scan(s, t, row0, row1) for each triangle the set-up accepts.
+template <typename Scan>
+void ForEachBandTriangle(const std::vector<Triangle>& triangles, const ScratchArray<FixedPoint>& pts,
+                         const Viewport& viewport, size_t pixel_bytes, Scan&& scan) {
+  const int width = viewport.width;
+  const RowBandBins bins = BinTrianglesByRowBand(triangles, pts, viewport.height, BandRowsFor(width, pixel_bytes), 0);
+  ForEachBand(bins.bands(), 0, viewport.height, [&](int band) {
+    const int row0 = band * bins.band_rows, row1 = std::min(viewport.height, row0 + bins.band_rows);
+    TriangleSetup s;
+    for (uint32_t k = bins.offsets[size_t(band)]; k < bins.offsets[size_t(band) + 1]; ++k) {
+      const uint32_t t = bins.triangles[k];
+      const auto& v = triangles[t].v;
+      // Binned by its rows alone: the set-up rejects a degenerate triangle, or one between columns.
+      if (!SetupTriangle(pts[v[0]], pts[v[1]], pts[v[2]], width, viewport.height, s)) continue;
+      scan(s, t, row0, row1);
+    }
+  });
+}
+
 }  // namespace
 }  // namespace render_internal
 
@@ -127,31 +149,19 @@ void MapPixelsInto(const std::vector<Triangle>& triangles, const std::vector<Ver
   dense.assign(npix, PixelSample{0, kNone, 0, 0, 0});
   const ScratchArray<FixedPoint> pts = ToFixedAll(fine, viewport, 0);
   const int width = viewport.width;
-  // Row bands of cache-sized pixels, each listing its triangles in increasing index (as
-  // DrawFineMesh): the lowest index still wins, and a band's pixels stay in cache while
-  // its triangles are scanned.
-  const RowBandBins bins =
-      BinTrianglesByRowBand(triangles, pts, viewport.height, BandRowsFor(width, sizeof(PixelSample)), 0);
-  ForEachBand(bins.bands(), 0, viewport.height, [&](int band) {
-    const int row0 = band * bins.band_rows, row1 = std::min(viewport.height, row0 + bins.band_rows);
-    TriangleSetup s;
-    for (uint32_t k = bins.offsets[size_t(band)]; k < bins.offsets[size_t(band) + 1]; ++k) {
-      const uint32_t t = bins.triangles[k];
-      const auto& v = triangles[t].v;
-      // Binned by its rows alone: the set-up rejects a degenerate triangle, or one between columns.
-      if (!SetupTriangle(pts[v[0]], pts[v[1]], pts[v[2]], width, viewport.height, s)) continue;
-      const double inv_area = 1.0 / double(s.area);
-      ScanTriangle(s, row0, row1, [&](int i, int j, int64_t e0, int64_t e1, int64_t e2) {
-        PixelSample& ps = dense[size_t(j) * width + i];
-        if (ps.triangle != kNone) return;  // lowest fine triangle index wins
-        float w[3];
-        w[s.slot[0]] = float(double(e0) * inv_area);
-        w[s.slot[1]] = float(double(e1) * inv_area);
-        w[s.slot[2]] = float(double(e2) * inv_area);
-        ps.triangle = t;
-        ps.w0 = w[0], ps.w1 = w[1], ps.w2 = w[2];
-      });
-    }
+  ForEachBandTriangle(triangles, pts, viewport, sizeof(PixelSample),
+                      [&](const TriangleSetup& s, uint32_t t, int row0, int row1) {
+    const double inv_area = 1.0 / double(s.area);
+    ScanTriangle(s, row0, row1, [&](int i, int j, int64_t e0, int64_t e1, int64_t e2) {
+      PixelSample& ps = dense[size_t(j) * width + i];
+      if (ps.triangle != kNone) return;  // lowest fine triangle index wins
+      float w[3];
+      w[s.slot[0]] = float(double(e0) * inv_area);
+      w[s.slot[1]] = float(double(e1) * inv_area);
+      w[s.slot[2]] = float(double(e2) * inv_area);
+      ps.triangle = t;
+      ps.w0 = w[0], ps.w1 = w[1], ps.w2 = w[2];
+    });
   });
   // Compacted in place (a covered pixel moves to a lower or equal index): no second
   // per-pixel array.
@@ -180,25 +190,14 @@ void MapPixelOwnersInto(const std::vector<Triangle>& triangles, const std::vecto
   owner.assign(npix, PixelOwners::kNoOwner);
   const ScratchArray<FixedPoint> pts = ToFixedAll(fine, viewport, 0);
   const int width = viewport.width;
-  // As MapPixelsInto: row bands, each listing its triangles in increasing index, the lowest
-  // index winning a pixel.
-  const RowBandBins bins =
-      BinTrianglesByRowBand(triangles, pts, viewport.height, BandRowsFor(width, sizeof(uint32_t)), 0);
-  ForEachBand(bins.bands(), 0, viewport.height, [&](int band) {
-    const int row0 = band * bins.band_rows, row1 = std::min(viewport.height, row0 + bins.band_rows);
-    TriangleSetup s;
-    for (uint32_t k = bins.offsets[size_t(band)]; k < bins.offsets[size_t(band) + 1]; ++k) {
-      const uint32_t t = bins.triangles[k];
-      const auto& v = triangles[t].v;
-      // Binned by its rows alone: the set-up rejects a degenerate triangle, or one between columns.
-      if (!SetupTriangle(pts[v[0]], pts[v[1]], pts[v[2]], width, viewport.height, s)) continue;
-      ScanSpans(s, row0, row1, [&](int j, int i_begin, int i_end, const int64_t*) {
-        uint32_t* row = owner.data() + size_t(j) * width;
-        for (int i = i_begin; i <= i_end; ++i) {
-          if (row[i] == PixelOwners::kNoOwner) row[i] = t;
-        }
-      });
-    }
+  ForEachBandTriangle(triangles, pts, viewport, sizeof(uint32_t),
+                      [&](const TriangleSetup& s, uint32_t t, int row0, int row1) {
+    ScanSpans(s, row0, row1, [&](int j, int i_begin, int i_end, const int64_t*) {
+      uint32_t* row = owner.data() + size_t(j) * width;
+      for (int i = i_begin; i <= i_end; ++i) {
+        if (row[i] == PixelOwners::kNoOwner) row[i] = t;
+      }
+    });
   });
   map.owner = std::move(owner);
   map.corners.resize(2 * pts.size());
