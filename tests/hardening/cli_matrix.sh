@@ -119,9 +119,11 @@ if [ -w /dev/full ]; then
   [ $rc -eq 1 ] && [ -c /dev/full ] || fail "render -o /dev/full: exit $rc (expected 1), $(head -1 "$WORK/err.txt")"
 fi
 
-# A memory limit turns a runaway into a clean limit error (issue 16, case 3).
+# A memory limit turns a runaway into a clean limit error (issue 16, case 3). 5000 x 5000:
+# vectorize holds about 39 bytes a pixel at its peak (spec/METHOD.md 5), so 600M stops it at
+# the feature planes (a 4000 x 4000 sample now fits).
 cases=$((cases + 1))
-"$SDVI" sample -o "$WORK/big.png" --width 4000 --height 4000 >/dev/null || fail "sample 4000x4000"
+"$SDVI" sample -o "$WORK/big.png" --width 5000 --height 5000 >/dev/null || fail "sample 5000x5000"
 "$SDVI" vectorize "$WORK/big.png" -o "$WORK/big.sdvi" --max-memory 600M >/dev/null 2>"$WORK/err.txt"; rc=$?
 [ $rc -eq 1 ] && grep -q "limit_exceeded" "$WORK/err.txt" && grep -q "big.png" "$WORK/err.txt" && [ ! -e "$WORK/big.sdvi" ] ||
   fail "vectorize --max-memory 600M: exit $rc, $(head -1 "$WORK/err.txt")"
