@@ -88,12 +88,16 @@ StatusOr<ImageMetrics> FileQuality(const Image& decoded, const Raster& source, i
   return CompareImages(render, source, threads);
 }
 
-StatusOr<RateResult> CompressForRate(const VectorizeResult& vectorized, const Raster& source, const Raster* mask,
-                                     const ColorFitOptions& fit, const RateOptions& options) {
-  const Image& image = vectorized.image;
-  const double fit_mse = 255.0 * 255.0 / std::pow(10.0, vectorized.report.fit_psnr / 10.0);
+namespace {
+
+// CompressForRate of an image whose colour fit measured fit_psnr, at the slope s = slope_db
+// (both entry points below).
+StatusOr<RateResult> CompressFittedImage(const Image& image, double fit_psnr, double slope_db, const Raster& source,
+                                         const Raster* mask, const ColorFitOptions& fit,
+                                         const RateOptions& options) {
+  const double fit_mse = 255.0 * 255.0 / std::pow(10.0, fit_psnr / 10.0);
   RateResult result;
-  result.slope_db = options.slope_db > 0 ? options.slope_db : SlopeFromHistory(vectorized.report);
+  result.slope_db = slope_db;
   ColorFitOptions refit = fit;
   refit.threads = options.threads;
 
@@ -188,17 +192,25 @@ StatusOr<RateResult> CompressForRate(const VectorizeResult& vectorized, const Ra
   return result;
 }
 
+}  // namespace
+
+StatusOr<RateResult> CompressForRate(const VectorizeResult& vectorized, const Raster& source, const Raster* mask,
+                                     const ColorFitOptions& fit, const RateOptions& options) {
+  const double slope = options.slope_db > 0 ? options.slope_db : SlopeFromHistory(vectorized.report);
+  return CompressFittedImage(vectorized.image, vectorized.report.fit_psnr, slope, source, mask, fit, options);
+}
+
 StatusOr<RateResult> CompressImageForRate(const Image& image, const Raster& source, const RateOptions& options) {
   if (uint32_t(source.width) != image.width || uint32_t(source.height) != image.height)
     return Status(StatusCode::kInvalidArgument, "the reference is " + std::to_string(source.width) + "x" +
                                                     std::to_string(source.height) + ", the image " +
                                                     std::to_string(image.width) + "x" + std::to_string(image.height));
-  VectorizeResult vectorized;
-  vectorized.image = image;
-  SDVI_ASSIGN_OR_RETURN(vectorized.report.fit_psnr, FileQualityPsnr(image, source, options.threads));
+  SDVI_ASSIGN_OR_RETURN(const double fit_psnr, FileQualityPsnr(image, source, options.threads));
   ColorFitOptions fit;
   fit.threads = options.threads;
-  return CompressForRate(vectorized, source, nullptr, fit, options);
+  // No history: SlopeFromHistory's fallback.
+  const double slope = options.slope_db > 0 ? options.slope_db : SlopeFromHistory(VectorizeReport());
+  return CompressFittedImage(image, fit_psnr, slope, source, nullptr, fit, options);
 }
 
 double BudgetForQuality(double quality) {

@@ -3,6 +3,7 @@
 // The rules are documented on FeatureOptions in sdvi/features.h.
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <cmath>
 #include <numeric>
 #include <opencv2/core.hpp>
@@ -579,9 +580,13 @@ struct EdgeMeasures {
   std::vector<uint32_t> pixels;
   std::vector<At> values;
 
+  // The measures of edge pixel (x, y); the caller's pixel must be one of the edge map's
+  // (the chains are made of edge pixels only).
   const At& Find(int x, int y) const {
     const uint32_t p = uint32_t(y) * uint32_t(width) + uint32_t(x);
-    return values[size_t(std::lower_bound(pixels.begin(), pixels.end(), p) - pixels.begin())];
+    const auto it = std::lower_bound(pixels.begin(), pixels.end(), p);
+    assert(it != pixels.end() && *it == p);
+    return values[size_t(it - pixels.begin())];
   }
 };
 
