@@ -5,6 +5,7 @@
 #include <array>
 #include <cfloat>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <memory>
@@ -856,6 +857,24 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
   const bool grey = std::all_of(image.vertices.begin(), image.vertices.end(), [](const Vertex& v) {
     return std::memcmp(&v.r, &v.g, sizeof(float)) == 0 && std::memcmp(&v.r, &v.b, sizeof(float)) == 0;
   });
+  // Draco's quantiser divides 2^bits - 1 by an attribute's span in float (its Quantizer):
+  // below 2^(bits - 126) the quotient overflows and the quantised values are garbage, on
+  // which its encoder reads out of bounds. No real image comes near (spans of pixels and
+  // colour levels); the decorrelated colours' step, span / (2^bits - 1), then stays a normal
+  // float too.
+  for (const bool colors : {false, true}) {
+    double max_abs = 0;
+    const double span = AttributeRange(image, colors, &max_abs);
+    const int bits = colors ? color_bits : position_bits;
+    if (span < std::ldexp(1.0, bits - 126)) {
+      char text[200];
+      std::snprintf(text, sizeof text,
+                    "image to compress: its %s span %g, too small to quantise at %d bits (Draco needs at "
+                    "least %g)",
+                    colors ? "colours" : "positions", span, bits, std::ldexp(1.0, bits - 126));
+      return Status(StatusCode::kEncodeFailed, text);
+    }
+  }
   double max_abs = 0;
   const double color_step = AttributeRange(image, true, &max_abs) / double((uint64_t{1} << color_bits) - 1);
 

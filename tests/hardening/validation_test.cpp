@@ -170,6 +170,45 @@ TEST_CASE("the reader refuses what the writer refuses (out-of-range colour patch
   CHECK(!result.ok());
 }
 
+TEST_CASE("positions or colours spanning a subnormal float are kEncodeFailed, never reach Draco") {
+  // Found by fuzz_compress: every vertex within 7e-39 px of the origin (valid: no triangle
+  // folds in double) made Draco's float quantiser divide 2^12 - 1 by a subnormal span and
+  // then read out of bounds (sdvi compress: segmentation fault).
+  Image image = Square();
+  for (sdvi::Vertex& v : image.vertices) {
+    v.x *= 2e-40f;
+    v.y *= 2e-40f;
+  }
+  REQUIRE(sdvi::ValidateImage(image, "t").ok());
+  sdvi::CompressOptions options;
+  for (int speed : {0, 5}) {
+    options.speed = speed;
+    const sdvi::Status status = sdvi::EncodeImage(image, &options, "t").status();
+    CHECK(status.code() == StatusCode::kEncodeFailed);
+    CHECK(status.message().find("positions span") != std::string::npos);
+  }
+  options.position_bits = 6;
+  CHECK(sdvi::EncodeDracoPayload(image, options).status().code() == StatusCode::kEncodeFailed);
+  // Colours: a span of 1e-40 levels.
+  image = Square();
+  for (sdvi::Vertex& v : image.vertices) v.r = v.g = v.b = 0.f;
+  image.vertices[4].g = 1e-40f;
+  options = {};
+  const sdvi::Status colours = sdvi::EncodeDracoPayload(image, options).status();
+  CHECK(colours.code() == StatusCode::kEncodeFailed);
+  CHECK(colours.message().find("colours span") != std::string::npos);
+  // The smallest span that passes at 12 bits, 2^-114, quantises and decodes.
+  image = Square();
+  for (sdvi::Vertex& v : image.vertices) {
+    v.x = std::ldexp(v.x / 64.f, -114);
+    v.y = std::ldexp(v.y / 64.f, -114);
+  }
+  options.position_bits = 12;
+  auto bytes = sdvi::EncodeImage(image, &options, "t");
+  REQUIRE(bytes.ok());
+  CHECK(sdvi::DecodeImage(*bytes, "t").ok());
+}
+
 TEST_CASE("Draco quantization is bounded at kMaxQuantizationBits") {
   Image image = Square();
   sdvi::CompressOptions options;

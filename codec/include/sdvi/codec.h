@@ -142,7 +142,8 @@ StatusOr<Image> SnapPositionsToGrid(const Image& image, int position_bits, int* 
 // when the vertex order is kept). Fails with kInvalidArgument for bad options,
 // ValidateImage's codes (kIndexOutOfRange, kCreaseNotAnEdge, kNonFinite,
 // kValueOutOfRange, kFoldedTriangle, ...) or kEmptyInput for an image that cannot be
-// encoded, kEncodeFailed when Draco fails or does not round trip.
+// encoded, kEncodeFailed when Draco fails or does not round trip, or when the positions'
+// or colours' span is below 2^(bits - 126), where Draco's float quantiser overflows.
 StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image,
                                                   const CompressOptions& options,
                                                   std::vector<uint32_t>* new_index_of_vertex = nullptr);
