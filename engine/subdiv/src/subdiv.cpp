@@ -3,8 +3,17 @@
 #include "sdvi/subdiv.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <memory>
+#include <new>
 #include <string>
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#endif
 
 #include "row_blocks.h"
 #include "sdvi/default_init_allocator.h"
@@ -358,8 +367,15 @@ void Compose(int requested_threads, size_t num_rows, const MaskRow& mask_row, co
 
 namespace {
 
-// Rows [begin, end) of table applied to kDims coordinates starting at in / out (sums in
-// double, stored as float).
+// Apply's kernels (spec/SUBDIVISION.md section 4). Every kernel computes each output
+// component as the same sequence of double operations: sum = 0.0, then sum += w * x for
+// the row's weights in table order (w and x the float weight and input converted to
+// double), then the float of sum. They differ in how many of those operations one
+// instruction carries, so they give the same floats. This file is compiled with
+// -ffp-contract=off (engine/subdiv/CMakeLists.txt): no kernel fuses w * x + sum.
+
+// Rows [begin, end) of table applied to kDims coordinates starting at in / out: the
+// portable kernel, reading the floats directly.
 template <int kDims>
 void ApplyRows(const StencilTable& table, size_t begin, size_t end, const float* in, size_t in_stride, float* out,
                size_t out_stride) {
@@ -382,23 +398,195 @@ using ApplyFunction = void (*)(const StencilTable&, size_t, size_t, const float*
 constexpr ApplyFunction kApplyByDims[8] = {ApplyRows<1>, ApplyRows<2>, ApplyRows<3>, ApplyRows<4>,
                                            ApplyRows<5>, ApplyRows<6>, ApplyRows<7>, ApplyRows<8>};
 
+// The x86-64 kernels first convert the input to doubles (exactly), pad values a vertex in
+// a 64-byte aligned copy (zeros past dims), so that the loop over weights has no
+// conversion of x left and a vertex's values are one aligned vector (or two). They are
+// compiled for AVX2 or AVX-512 by target attributes and chosen at run time
+// (__builtin_cpu_supports); the portable kernel stays for other processors and compilers.
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define SDVI_STENCIL_X86 1
+
+// Vertices [0, count) of in (stride in_stride, kDims values) as doubles, kPad a vertex.
+template <int kDims, int kPad>
+__attribute__((target("avx2"))) void ToDoubles(const float* in, size_t in_stride, size_t count, double* out) {
+  for (size_t v = 0; v < count; ++v) {
+    float values[kPad] = {};
+    std::memcpy(values, in + v * in_stride, kDims * sizeof(float));
+    double* dst = out + v * kPad;
+    for (int c = 0; c < kPad; ++c) dst[c] = values[c];
+  }
+}
+
+// AVX2: the portable loop over the doubles, two weights an iteration (in order); the
+// compiler vectorizes each weight's kDims products and sums across components.
+template <int kDims, int kPad>
+__attribute__((target("avx2"))) void ApplyRowsAvx2(const StencilTable& table, size_t begin, size_t end,
+                                                   const double* in, float* out, size_t out_stride) {
+  const uint32_t* offsets = table.offsets.data();
+  const uint32_t* indices = table.indices.data();
+  const float* weights = table.weights.data();
+  in = static_cast<const double*>(__builtin_assume_aligned(in, 32));
+  for (size_t i = begin; i < end; ++i) {
+    double sum[kDims] = {};
+    uint32_t k = offsets[i];
+    const uint32_t row_end = offsets[i + 1];
+    for (; k + 1 < row_end; k += 2) {
+      const double* a = in + size_t{indices[k]} * kPad;
+      const double* b = in + size_t{indices[k + 1]} * kPad;
+      const double wa = weights[k];
+      const double wb = weights[k + 1];
+      for (int c = 0; c < kDims; ++c) sum[c] += wa * a[c];
+      for (int c = 0; c < kDims; ++c) sum[c] += wb * b[c];
+    }
+    if (k < row_end) {
+      const double* a = in + size_t{indices[k]} * kPad;
+      const double wa = weights[k];
+      for (int c = 0; c < kDims; ++c) sum[c] += wa * a[c];
+    }
+    float* dst = out + i * out_stride;
+    for (int c = 0; c < kDims; ++c) dst[c] = static_cast<float>(sum[c]);
+  }
+}
+
+// AVX-512 (5 to 8 components, kPad 8): one 8-double vector a weight (the lanes past kDims
+// sum zeros and are not stored), two weights an iteration.
+template <int kDims>
+__attribute__((target("avx512f,avx512vl"))) void ApplyRowsAvx512(const StencilTable& table, size_t begin,
+                                                                 size_t end, const double* in, float* out,
+                                                                 size_t out_stride) {
+  static_assert(kDims > 4 && kDims <= 8);
+  const uint32_t* offsets = table.offsets.data();
+  const uint32_t* indices = table.indices.data();
+  const float* weights = table.weights.data();
+  const __mmask8 store = static_cast<__mmask8>((1u << kDims) - 1);
+  for (size_t i = begin; i < end; ++i) {
+    __m512d sum = _mm512_setzero_pd();
+    uint32_t k = offsets[i];
+    const uint32_t row_end = offsets[i + 1];
+    for (; k + 1 < row_end; k += 2) {
+      const __m512d a = _mm512_load_pd(in + size_t{indices[k]} * 8);
+      const __m512d b = _mm512_load_pd(in + size_t{indices[k + 1]} * 8);
+      sum = _mm512_add_pd(sum, _mm512_mul_pd(_mm512_set1_pd(double{weights[k]}), a));
+      sum = _mm512_add_pd(sum, _mm512_mul_pd(_mm512_set1_pd(double{weights[k + 1]}), b));
+    }
+    if (k < row_end)
+      sum = _mm512_add_pd(sum, _mm512_mul_pd(_mm512_set1_pd(double{weights[k]}),
+                                             _mm512_load_pd(in + size_t{indices[k]} * 8)));
+    _mm256_mask_storeu_ps(out + i * out_stride, store, _mm512_maskz_cvtpd_ps(store, sum));
+  }
+}
+
+bool CpuHasAvx2() {
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+}
+
+bool CpuHasAvx512() {
+  static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl");
+  return has;
+}
+
+using ConvertFunction = void (*)(const float*, size_t, size_t, double*);
+using SimdFunction = void (*)(const StencilTable&, size_t, size_t, const double*, float*, size_t);
+struct SimdKernel {
+  ConvertFunction convert;
+  SimdFunction rows;
+  int pad;  // doubles a vertex
+};
+
+template <int kDims>
+constexpr SimdKernel kAvx2Kernel = {ToDoubles<kDims, kDims <= 4 ? 4 : 8>, ApplyRowsAvx2<kDims, kDims <= 4 ? 4 : 8>,
+                                    kDims <= 4 ? 4 : 8};
+constexpr SimdKernel kAvx2ByDims[8] = {kAvx2Kernel<1>, kAvx2Kernel<2>, kAvx2Kernel<3>, kAvx2Kernel<4>,
+                                       kAvx2Kernel<5>, kAvx2Kernel<6>, kAvx2Kernel<7>, kAvx2Kernel<8>};
+constexpr SimdKernel kAvx512ByDims[4] = {{ToDoubles<5, 8>, ApplyRowsAvx512<5>, 8},
+                                         {ToDoubles<6, 8>, ApplyRowsAvx512<6>, 8},
+                                         {ToDoubles<7, 8>, ApplyRowsAvx512<7>, 8},
+                                         {ToDoubles<8, 8>, ApplyRowsAvx512<8>, 8}};
+
+// The SIMD kernel for nd components (nullptr: the portable one).
+const SimdKernel* PickSimdKernel(StencilTable::Kernel kernel, int nd) {
+  using Kernel = StencilTable::Kernel;
+  const bool avx512 = CpuHasAvx512() && nd > 4 && (kernel == Kernel::kAuto || kernel == Kernel::kAvx512);
+  if (avx512) return &kAvx512ByDims[nd - 5];
+  const bool avx2 = CpuHasAvx2() && kernel != Kernel::kPortable;
+  return avx2 ? &kAvx2ByDims[nd - 1] : nullptr;
+}
+#endif
+
+// Apply starts a thread for each this many weights (at most the hardware's threads).
+constexpr size_t kWeightsPerThread = size_t{1} << 20;
+
+// kAuto converts the input only when the table has this many weights a control vertex
+// or more (a region's table refers to all control vertices for few rows).
+constexpr size_t kMinWeightsPerControl = 4;
+
 }  // namespace
 
-void StencilTable::Apply(const float* in, size_t in_stride, float* out, size_t out_stride, int dims) const {
-  const size_t n = rows();
-  // Large tables are split over threads by rows (each row is written by one thread).
-  const unsigned threads = n < 2 * 65536 ? 1u : static_cast<unsigned>(std::clamp<size_t>(n / 65536, 1, HardwareThreads()));
-  auto run = [&](size_t begin, size_t end) {
-    for (int d0 = 0; d0 < dims; d0 += 8) {
-      const int nd = std::min(8, dims - d0);
-      kApplyByDims[nd - 1](*this, begin, end, in + d0, in_stride, out + d0, out_stride);
-    }
-  };
-  if (threads == 1) {
-    run(0, n);
-    return;
+bool StencilTable::KernelSupported(Kernel kernel) {
+  switch (kernel) {
+    case Kernel::kAuto:
+    case Kernel::kPortable:
+      return true;
+#ifdef SDVI_STENCIL_X86
+    case Kernel::kAvx2:
+      return CpuHasAvx2();
+    case Kernel::kAvx512:
+      return CpuHasAvx512();
+#else
+    case Kernel::kAvx2:
+    case Kernel::kAvx512:
+      return false;
+#endif
   }
-  RunTasks(int(threads), [&run, n, threads](int i) { run(n * unsigned(i) / threads, n * unsigned(i + 1) / threads); });
+  return false;
+}
+
+void StencilTable::Apply(const float* in, size_t in_stride, float* out, size_t out_stride, int dims) const {
+  Apply(in, in_stride, out, out_stride, dims, Kernel::kAuto);
+}
+
+void StencilTable::Apply(const float* in, size_t in_stride, float* out, size_t out_stride, int dims,
+                         Kernel kernel) const {
+  const size_t n = rows();
+  // Large tables go over threads, one per kWeightsPerThread weights at most, in chunks of
+  // rows taken in turn from a shared counter (each row is written by one thread): on a busy
+  // machine a thread that starts late leaves its share to the others.
+  const unsigned threads = static_cast<unsigned>(std::clamp<size_t>(indices.size() / kWeightsPerThread, 1, HardwareThreads()));
+  auto split = [n, threads](const auto& run) {
+    if (threads == 1) {
+      run(size_t{0}, n);
+      return;
+    }
+    const size_t chunk = std::max<size_t>(1024, n / (8 * threads));
+    std::atomic<size_t> next{0};
+    RunTasks(int(threads), [&run, &next, n, chunk](int) {
+      for (size_t begin; (begin = next.fetch_add(chunk, std::memory_order_relaxed)) < n;)
+        run(begin, std::min(n, begin + chunk));
+    });
+  };
+#ifdef SDVI_STENCIL_X86
+  const bool simd = num_control > 0 && n > 0 &&
+                    (kernel != Kernel::kAuto || indices.size() >= kMinWeightsPerControl * num_control);
+#endif
+  for (int d0 = 0; d0 < dims; d0 += 8) {
+    const int nd = std::min(8, dims - d0);
+#ifdef SDVI_STENCIL_X86
+    if (const SimdKernel* k = simd ? PickSimdKernel(kernel, nd) : nullptr) {
+      const size_t size = size_t{num_control} * size_t(k->pad) + 8;
+      std::unique_ptr<double[]> buffer(new (std::nothrow) double[size]);
+      if (buffer) {  // else the portable kernel below
+        double* doubles = reinterpret_cast<double*>((reinterpret_cast<uintptr_t>(buffer.get()) + 63) & ~uintptr_t{63});
+        k->convert(in + d0, in_stride, num_control, doubles);
+        split([&](size_t begin, size_t end) { k->rows(*this, begin, end, doubles, out + d0, out_stride); });
+        continue;
+      }
+    }
+#endif
+    split([&](size_t begin, size_t end) {
+      kApplyByDims[nd - 1](*this, begin, end, in + d0, in_stride, out + d0, out_stride);
+    });
+  }
 }
 
 StatusOr<LimitSurface> BuildLimitSurface(const Image& image, const LimitSurfaceOptions& options) {

@@ -23,8 +23,16 @@ struct StencilTable {
   std::vector<float> weights;
 
   size_t rows() const { return offsets.empty() ? 0 : offsets.size() - 1; }
-  // out[i * out_stride + c] = sum_k weights[k] * in[indices[k] * in_stride + c], c < dims.
+  // out[i * out_stride + c] = sum_k weights[k] * in[indices[k] * in_stride + c], c < dims,
+  // summed in double in row order and stored as float; every index < num_control.
   void Apply(const float* in, size_t in_stride, float* out, size_t out_stride, int dims) const;
+
+  // Apply's kernels (spec/SUBDIVISION.md section 4), all giving the same floats: kAuto picks
+  // one for the processor and the table; the others force one (tests compare them). A
+  // forced kernel the processor lacks runs the portable one.
+  enum class Kernel { kAuto, kPortable, kAvx2, kAvx512 };
+  static bool KernelSupported(Kernel kernel);
+  void Apply(const float* in, size_t in_stride, float* out, size_t out_stride, int dims, Kernel kernel) const;
 };
 
 struct LimitSurfaceOptions {
