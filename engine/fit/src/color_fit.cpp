@@ -562,14 +562,26 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
     // touch rows near each other: contiguous ranges of rows left all of a batch's rows to
     // one thread).
     constexpr uint32_t kScatterRowsLog2 = 4;
+    auto owns = [&](uint32_t row, int id) {
+      return threads == 1 || int((row >> kScatterRowsLog2) % uint32_t(threads)) == id;
+    };
     auto scatter = [&](int id) {
       for (size_t t = t0; t < t1; ++t) {
+        // The rows of A the triangle two ahead adds to lie anywhere in the matrix: ask for
+        // their first columns and values now (fit/src/prefetch.h; nothing computed changes).
+        if (t + 2 < t1) {
+          for (const uint32_t* c = support.begin(t + 2); c != support.begin(t + 3); ++c) {
+            if (!owns(*c, id)) continue;
+            __builtin_prefetch(columns + row_start[*c]);
+            __builtin_prefetch(values + row_start[*c]);
+          }
+        }
         const size_t u = support.count(t);
         const uint32_t* us = support.begin(t);  // ascending: merge with the sorted row columns
         const double* a = blocks.data() + block_offset[t - t0];
         const double* b = a + u * u;
         for (size_t i = 0; i < u; ++i) {
-          if (threads > 1 && int((us[i] >> kScatterRowsLog2) % uint32_t(threads)) != id) continue;
+          if (!owns(us[i], id)) continue;
           for (int c = 0; c < 3; ++c) rhs(us[i], c) += b[i * 3 + c];
           const double* arow = a + i * u;
           int p = row_start[us[i]];
