@@ -556,19 +556,32 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
                      scratch[worker], a, a + u * u);
       }
     });
-    // Scatter: each thread owns a range of rows of A and adds the blocks' rows in triangle
-    // order, so every entry is summed in the same order for any thread count.
+    // Scatter: each thread owns a set of rows of A and adds the blocks' rows in triangle
+    // order, so every entry is summed in the same order for any thread count. The rows are
+    // dealt in groups of kScatterRows in turn (a batch's triangles are near each other and
+    // touch rows near each other: contiguous ranges of rows left all of a batch's rows to
+    // one thread).
+    constexpr uint32_t kScatterRowsLog2 = 4;
+    auto owns = [&](uint32_t row, int id) {
+      return threads == 1 || int((row >> kScatterRowsLog2) % uint32_t(threads)) == id;
+    };
     auto scatter = [&](int id) {
-      const uint32_t row_lo = uint32_t(num_control * size_t(id) / size_t(threads));
-      const uint32_t row_hi = uint32_t(num_control * size_t(id + 1) / size_t(threads));
       for (size_t t = t0; t < t1; ++t) {
+        // The rows of A the triangle two ahead adds to lie anywhere in the matrix: ask for
+        // their first columns and values now (fit/src/prefetch.h; nothing computed changes).
+        if (t + 2 < t1) {
+          for (const uint32_t* c = support.begin(t + 2); c != support.begin(t + 3); ++c) {
+            if (!owns(*c, id)) continue;
+            __builtin_prefetch(columns + row_start[*c]);
+            __builtin_prefetch(values + row_start[*c]);
+          }
+        }
         const size_t u = support.count(t);
         const uint32_t* us = support.begin(t);  // ascending: merge with the sorted row columns
         const double* a = blocks.data() + block_offset[t - t0];
         const double* b = a + u * u;
-        const size_t i0 = size_t(std::lower_bound(us, us + u, row_lo) - us);
-        const size_t i1 = size_t(std::lower_bound(us, us + u, row_hi) - us);
-        for (size_t i = i0; i < i1; ++i) {
+        for (size_t i = 0; i < u; ++i) {
+          if (!owns(us[i], id)) continue;
           for (int c = 0; c < 3; ++c) rhs(us[i], c) += b[i * 3 + c];
           const double* arow = a + i * u;
           int p = row_start[us[i]];
@@ -592,11 +605,19 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
   local_fine = IndexSets();
   support = IndexSets();
 
-  // Regulariser: lambda * s * (graph Laplacian of the control edges) + 1e-9 s I.
+  // Regulariser: lambda * s * (graph Laplacian of the control edges) + 1e-9 s I. Row by row
+  // on the threads: a row's diagonal gets + lambda s once per distinct control edge at its
+  // vertex (equal terms, so their order does not matter), each edge's two off-diagonal
+  // entries - lambda s once, then the diagonal + 1e-9 s: the values of the serial pass over
+  // the sorted edges.
+  std::vector<size_t> diagonal_at(num_control);
+  fit_internal::ForEachChunk(num_control, kSetChunk, threads, [&](size_t, size_t i0, size_t i1) {
+    for (size_t i = i0; i < i1; ++i) diagonal_at[i] = position(uint32_t(i), uint32_t(i));
+  });
   double diagonal_sum = 0;
   size_t diagonal_count = 0;
   for (size_t i = 0; i < num_control; ++i) {
-    const double d = values[position(uint32_t(i), uint32_t(i))];
+    const double d = values[diagonal_at[i]];
     if (d > 0) {
       diagonal_sum += d;
       ++diagonal_count;
@@ -604,26 +625,41 @@ StatusOr<ColorFit> FitColors(Image& image, const Raster& target, const Raster* m
   }
   const double scale = diagonal_count > 0 ? diagonal_sum / double(diagonal_count) : 1.0;
   {
-    std::vector<Edge> edges;
-    edges.reserve(num_control_tris * 3);
+    // Each vertex's neighbours along the control triangles' sides (with repeats).
+    IndexSets neighbours;
+    neighbours.offsets.assign(num_control + 1, 0);
     for (const Triangle& tri : image.triangles) {
-      for (int k = 0; k < 3; ++k) edges.push_back(Edge::Of(tri.v[k], tri.v[(k + 1) % 3]));
+      for (uint32_t c : tri.v) neighbours.offsets[c + 1] += 2;
     }
-    std::sort(edges.begin(), edges.end());
-    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-    const double weight = options.regularization * scale;
-    if (weight > 0) {
-      for (const Edge& e : edges) {
-        if (e.a == e.b) continue;
-        values[position(e.a, e.a)] += weight;
-        values[position(e.b, e.b)] += weight;
-        values[position(e.a, e.b)] -= weight;
-        values[position(e.b, e.a)] -= weight;
+    for (size_t c = 0; c < num_control; ++c) neighbours.offsets[c + 1] += neighbours.offsets[c];
+    neighbours.items.resize(neighbours.offsets.back());
+    {
+      std::vector<uint32_t> cursor(neighbours.offsets.begin(), neighbours.offsets.end() - 1);
+      for (const Triangle& tri : image.triangles) {
+        for (int k = 0; k < 3; ++k) {
+          const uint32_t c = tri.v[k];
+          neighbours.items[cursor[c]++] = tri.v[(k + 1) % 3];
+          neighbours.items[cursor[c]++] = tri.v[(k + 2) % 3];
+        }
       }
     }
-    for (size_t i = 0; i < num_control; ++i) {
-      values[position(uint32_t(i), uint32_t(i))] += 1e-9 * scale;
-    }
+    const double weight = options.regularization * scale;
+    fit_internal::ForEachChunk(num_control, kSetChunk, threads, [&](size_t, size_t i0, size_t i1) {
+      for (size_t i = i0; i < i1; ++i) {
+        if (weight > 0) {
+          uint32_t* first = neighbours.items.data() + neighbours.offsets[i];
+          uint32_t* last = neighbours.items.data() + neighbours.offsets[i + 1];
+          std::sort(first, last);
+          last = std::unique(first, last);
+          for (const uint32_t* j = first; j != last; ++j) {
+            if (*j == i) continue;
+            values[diagonal_at[i]] += weight;
+            values[position(uint32_t(i), *j)] -= weight;
+          }
+        }
+        values[diagonal_at[i]] += 1e-9 * scale;
+      }
+    });
   }
   fit.seconds_assemble = SecondsSince(start);
 

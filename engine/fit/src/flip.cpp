@@ -7,7 +7,6 @@
 #include <array>
 #include <cmath>
 #include <cstring>
-#include <unordered_map>
 #include <vector>
 
 #include "parallel.h"
@@ -215,6 +214,65 @@ class QuadError {
   bool whole_;  // every pixel is in the domain
 };
 
+// The interior edges' two triangles by edge key ((a << 32) | b, a < b): open addressing,
+// linear probing, deletion by backward shift; at most half full (a flip erases one edge and
+// adds one, so the count never exceeds the first sweep's). What a lookup answers does not
+// depend on the table's layout, so the flips are those of any map (std::unordered_map
+// before: a node allocation an edge and most of the first sweep's serial time).
+class EdgeTriangleMap {
+ public:
+  static constexpr uint64_t kEmpty = ~uint64_t(0);  // no edge has a = b = 2^32 - 1
+  void Reserve(size_t n) {
+    size_t size = 16;
+    while (size < 2 * n + 2) size *= 2;
+    keys_.assign(size, kEmpty);
+    values_.assign(size, {0, 0});
+    mask_ = size - 1;
+  }
+  std::array<uint32_t, 2>* Find(uint64_t key) {
+    for (size_t i = Slot(key);; i = (i + 1) & mask_) {
+      if (keys_[i] == key) return &values_[i];
+      if (keys_[i] == kEmpty) return nullptr;
+    }
+  }
+  bool Contains(uint64_t key) { return Find(key) != nullptr; }
+  // Inserts key or replaces its triangles.
+  void Set(uint64_t key, const std::array<uint32_t, 2>& value) {
+    size_t i = Slot(key);
+    while (keys_[i] != key && keys_[i] != kEmpty) i = (i + 1) & mask_;
+    keys_[i] = key;
+    values_[i] = value;
+  }
+  void Erase(uint64_t key) {
+    size_t i = Slot(key);
+    while (keys_[i] != key) {
+      if (keys_[i] == kEmpty) return;
+      i = (i + 1) & mask_;
+    }
+    // Backward shift: move up every later entry of the run whose probe start is not
+    // cyclically in (i, j].
+    for (size_t j = (i + 1) & mask_; keys_[j] != kEmpty; j = (j + 1) & mask_) {
+      const size_t k = Slot(keys_[j]);
+      const bool stays = i <= j ? (i < k && k <= j) : (i < k || k <= j);
+      if (stays) continue;
+      keys_[i] = keys_[j];
+      values_[i] = values_[j];
+      i = j;
+    }
+    keys_[i] = kEmpty;
+  }
+
+ private:
+  size_t Slot(uint64_t key) const {
+    key ^= key >> 31;
+    key *= 0x9e3779b97f4a7c15ull;
+    return size_t(key ^ (key >> 32)) & mask_;
+  }
+  std::vector<uint64_t> keys_;
+  std::vector<std::array<uint32_t, 2>> values_;
+  size_t mask_ = 0;
+};
+
 }  // namespace
 
 namespace {
@@ -278,16 +336,12 @@ int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int p
   if (cache == nullptr) cache = &local;
   const QuadError error(mesh, raster, mask, colour);
   // The error of triangle t, from the cache when it holds it; key_of is its cache key.
-  auto key_of = [&](const std::array<uint32_t, 3>& t) {
-    std::array<uint32_t, 6> key;
-    CanonicalCorners(mesh, t, &key);
-    return key;
-  };
-  auto triangle_error_of = [&](const std::array<uint32_t, 3>& t) {
-    std::array<uint32_t, 6> key;
-    const std::array<uint32_t, 3> corners = CanonicalCorners(mesh, t, &key);
-    if (const double* e = cache->Find(key)) return *e;
-    return error.Triangle(corners);
+  // The error of triangle t and its cache entry (what cache->Add records).
+  auto triangle_entry_of = [&](const std::array<uint32_t, 3>& t, FlipErrorCache::Entry* entry) {
+    const std::array<uint32_t, 3> corners = CanonicalCorners(mesh, t, &entry->key);
+    const double* e = cache->Find(entry->key);
+    entry->error = e != nullptr ? *e : error.Triangle(corners);
+    return entry->error;
   };
   const double min_sine = std::sin(min_angle_deg * 3.14159265358979323846 / 180.0);
   std::vector<Edge> creases = mesh.crease_edges;
@@ -313,7 +367,7 @@ int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int p
   // flips: the first sweep finds them by sorting every triangle's sides, a later one lists
   // only the edges of the triangles the previous sweep changed, in the same (edge) order.
   auto edge_key = [](const Edge& e) { return (uint64_t(e.a) << 32) | e.b; };
-  std::unordered_map<uint64_t, std::array<uint32_t, 2>> edge_triangles;
+  EdgeTriangleMap edge_triangles;
   for (int pass = 0; pass < passes; ++pass) {
     // The edges a sweep may flip, by the geometry at the sweep's start: the sweep's interior
     // edges (with their triangles) are listed in edge order, then tested on the threads in
@@ -352,24 +406,36 @@ int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int p
         Edge e;
         uint32_t t;
       };
-      std::vector<Side> sides;
-      sides.reserve(mesh.triangles.size() * 3);
+      // Sorted by (a, b, t): listed in triangle order, then stably counting-sorted by b,
+      // then by a (the order std::sort with that comparison gives).
+      std::vector<Side> sides(mesh.triangles.size() * 3), sorted(sides.size());
       for (uint32_t t = 0; t < mesh.triangles.size(); ++t) {
         const auto& v = mesh.triangles[t].v;
-        for (int k = 0; k < 3; ++k) sides.push_back({Edge::Of(v[k], v[(k + 1) % 3]), t});
+        for (int k = 0; k < 3; ++k) sides[3 * size_t(t) + size_t(k)] = {Edge::Of(v[k], v[(k + 1) % 3]), t};
       }
-      std::sort(sides.begin(), sides.end(), [](const Side& a, const Side& b) {
-        return a.e != b.e ? a.e < b.e : a.t < b.t;
-      });
-      edge_triangles.reserve(sides.size() / 2 + 16);
+      {
+        std::vector<uint32_t> start(mesh.vertices.size() + 1);
+        auto counting_sort = [&](auto vertex_of) {
+          std::fill(start.begin(), start.end(), 0);
+          for (const Side& side : sides) ++start[vertex_of(side) + 1];
+          for (size_t v = 0; v + 1 < start.size(); ++v) start[v + 1] += start[v];
+          for (const Side& side : sides) sorted[start[vertex_of(side)]++] = side;
+          sides.swap(sorted);
+        };
+        counting_sort([](const Side& side) { return side.e.b; });
+        counting_sort([](const Side& side) { return side.e.a; });
+      }
+      std::vector<Side>().swap(sorted);
       for (size_t i = 0; i + 1 < sides.size(); ++i) {
         if (sides[i].e != sides[i + 1].e) continue;
         const Edge e = sides[i].e;
         const uint32_t t0 = sides[i].t, t1 = sides[i + 1].t;
         ++i;
-        edge_triangles[edge_key(e)] = {t0, t1};
         pairs.push_back({e, t0, t1});
       }
+      std::vector<Side>().swap(sides);
+      edge_triangles.Reserve(pairs.size());
+      for (const Pair& p : pairs) edge_triangles.Set(edge_key(p.e), {p.t0, p.t1});
     } else {
       std::vector<Edge> edges;
       for (uint32_t t = 0; t < mesh.triangles.size(); ++t) {
@@ -377,13 +443,13 @@ int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int p
         const auto& v = mesh.triangles[t].v;
         for (int k = 0; k < 3; ++k) {
           const Edge e = Edge::Of(v[k], v[(k + 1) % 3]);
-          if (edge_triangles.count(edge_key(e))) edges.push_back(e);
+          if (edge_triangles.Contains(edge_key(e))) edges.push_back(e);
         }
       }
       std::sort(edges.begin(), edges.end());
       edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
       for (const Edge& e : edges) {
-        const std::array<uint32_t, 2>& t = edge_triangles.at(edge_key(e));
+        const std::array<uint32_t, 2>& t = *edge_triangles.Find(edge_key(e));
         pairs.push_back({e, t[0], t[1]});
       }
     }
@@ -412,21 +478,22 @@ int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int p
         }
       }
     }
+    // Each error's cache entry is recorded where it is computed: the unknown triangles'
+    // in their order, then the candidates' two flipped triangles each.
+    FlipErrorCache::Entry* entries = cache->Extend(unknown.size() + 2 * candidates.size());
     fit_internal::ForEachChunk(unknown.size(), kChunk, threads, [&](size_t, size_t k0, size_t k1) {
-      for (size_t k = k0; k < k1; ++k) triangle_error[unknown[k]] = triangle_error_of(mesh.triangles[unknown[k]].v);
+      for (size_t k = k0; k < k1; ++k) {
+        triangle_error[unknown[k]] = triangle_entry_of(mesh.triangles[unknown[k]].v, &entries[k]);
+      }
     });
+    entries += unknown.size();
     fit_internal::ForEachChunk(candidates.size(), kChunk, threads, [&](size_t, size_t k0, size_t k1) {
       for (size_t k = k0; k < k1; ++k) {
         Candidate& c = candidates[k];
-        c.after0 = triangle_error_of({c.r, c.s, c.e.a});
-        c.after1 = triangle_error_of({c.r, c.s, c.e.b});
+        c.after0 = triangle_entry_of({c.r, c.s, c.e.a}, &entries[2 * k]);
+        c.after1 = triangle_entry_of({c.r, c.s, c.e.b}, &entries[2 * k + 1]);
       }
     });
-    for (uint32_t t : unknown) cache->Add(key_of(mesh.triangles[t].v), triangle_error[t]);
-    for (const Candidate& c : candidates) {
-      cache->Add(key_of({c.r, c.s, c.e.a}), c.after0);
-      cache->Add(key_of({c.r, c.s, c.e.b}), c.after1);
-    }
     std::vector<uint8_t> touched(mesh.triangles.size(), 0);
     int pass_flips = 0;
     for (const Candidate& c : candidates) {
@@ -448,12 +515,12 @@ int FlipEdgesToData(Image& mesh, const Raster& raster, const Raster* mask, int p
       touched[t0] = touched[t1] = 1;
       // The edge map: (a, b) becomes (r, s); side (a, s) moves from t1 to t0, (b, r) from t0
       // to t1 (the others keep their triangles).
-      edge_triangles.erase(edge_key(c.e));
-      edge_triangles[edge_key(Edge::Of(c.r, c.s))] = {std::min(t0, t1), std::max(t0, t1)};
+      edge_triangles.Erase(edge_key(c.e));
+      edge_triangles.Set(edge_key(Edge::Of(c.r, c.s)), {std::min(t0, t1), std::max(t0, t1)});
       auto move_side = [&](const Edge& e, uint32_t from, uint32_t to) {
-        const auto it = edge_triangles.find(edge_key(e));
-        if (it == edge_triangles.end()) return;  // a boundary edge
-        std::array<uint32_t, 2>& t = it->second;
+        std::array<uint32_t, 2>* found = edge_triangles.Find(edge_key(e));
+        if (found == nullptr) return;  // a boundary edge
+        std::array<uint32_t, 2>& t = *found;
         if (t[0] == from) t[0] = to;
         else if (t[1] == from) t[1] = to;
         if (t[0] > t[1]) std::swap(t[0], t[1]);

@@ -231,6 +231,13 @@ class FlipErrorCache {
   size_t hits() const { return hits_.load(); }
   // Records an error computed or found by the current call.
   void Add(const std::array<uint32_t, 6>& key, double error) { current_.push_back({key, error}); }
+  // Appends n entries for the caller to fill (several threads may fill their own ones), as
+  // n calls of Add would in the same order.
+  Entry* Extend(size_t n) {
+    const size_t at = current_.size();
+    current_.resize(at + n);
+    return current_.data() + at;
+  }
   // Ends a call: what it recorded becomes what later calls find.
   void EndCall();
   size_t size() const { return previous_.size(); }
