@@ -862,9 +862,11 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
   // which its encoder reads out of bounds. No real image comes near (spans of pixels and
   // colour levels); the decorrelated colours' step, span / (2^bits - 1), then stays a normal
   // float too.
+  double max_abs = 0;
+  const double position_span = AttributeRange(image, false, &max_abs);
+  const double color_span = AttributeRange(image, true, &max_abs);
   for (const bool colors : {false, true}) {
-    double max_abs = 0;
-    const double span = AttributeRange(image, colors, &max_abs);
+    const double span = colors ? color_span : position_span;
     const int bits = colors ? color_bits : position_bits;
     if (span < std::ldexp(1.0, bits - 126)) {
       char text[200];
@@ -875,8 +877,7 @@ StatusOr<std::vector<uint8_t>> EncodeDracoPayload(const Image& image, const Comp
       return Status(StatusCode::kEncodeFailed, text);
     }
   }
-  double max_abs = 0;
-  const double color_step = AttributeRange(image, true, &max_abs) / double((uint64_t{1} << color_bits) - 1);
+  const double color_step = color_span / double((uint64_t{1} << color_bits) - 1);
 
   // The Draco mesh with colours laid out one way. Try, in order: edgebreaker without ids
   // (decoded order = Draco's), edgebreaker with ids, sequential with ids. Each candidate

@@ -208,8 +208,7 @@ StatusOr<RateResult> CompressImageForRate(const Image& image, const Raster& sour
   SDVI_ASSIGN_OR_RETURN(const double fit_psnr, FileQualityPsnr(image, source, options.threads));
   ColorFitOptions fit;
   fit.threads = options.threads;
-  // No history: SlopeFromHistory's fallback.
-  const double slope = options.slope_db > 0 ? options.slope_db : SlopeFromHistory(VectorizeReport());
+  const double slope = options.slope_db > 0 ? options.slope_db : kFallbackSlope;  // no history
   return CompressFittedImage(image, fit_psnr, slope, source, nullptr, fit, options);
 }
 
