@@ -39,10 +39,11 @@ double FeatureVertexCost(const FeatureCurve& curve, bool pairs);
 // spacing 8 x 2^k, max spacing 12 x 2^k; corners kept), each with a cost (FeatureVertexCost,
 // plus its junction vertices when options.junctions)
 // and a value, the squared error the feature removes from the interior's reconstruction:
-//   value = contrast^2 x length x max(0, 1 - e / interior_spacing)
-// (an edge the interior represents is smeared over about the sample spacing; one placed e
-// px off, e the coarse spline's largest distance from the given one, leaves an e px band
-// wrong; contrast 0, i.e. unknown, counts as 1). The choice is the greedy solution of this
+//   value = contrast^2 x length x max(0, 1 - 12 e / interior_spacing)
+// (an edge the interior represents is a ramp about the sample spacing s wide, squared error
+// contrast^2 s / 12 per unit length; one placed e px off, e the coarse spline's mean distance
+// from the given one, leaves an e px band wrong, contrast^2 e; contrast 0, i.e. unknown,
+// counts as 1). The choice is the greedy solution of this
 // multiple-choice knapsack: the steps along each feature's upper convex hull of (cost,
 // value), from "dropped" to finer levels, taken in decreasing value per vertex while they
 // fit. The kept curves stay in input order.
