@@ -8,6 +8,7 @@
 #include <cstring>
 #include <map>
 #include <random>
+#include <thread>
 
 #include "sdvi/subdiv.h"
 #include "sdvi/tagged_mesh.h"
@@ -402,5 +403,44 @@ TEST_CASE("Apply's threads and kernels give the floats of one thread", "[stencil
     t.Apply(in.data(), 5, got.data(), 5, 5, kernel);
     INFO("kernel " << int(kernel));
     CHECK(std::memcmp(expected.data(), got.data(), expected.size() * sizeof(float)) == 0);
+  }
+}
+
+TEST_CASE("Apply's kept scratch gives the same floats across calls, sizes and threads", "[stencils]") {
+  // The converted input is kept by each thread between calls (up to 16 MiB, larger ones
+  // are allocated for the call): growing and shrinking tables, one over the kept size, and
+  // two threads at once must each give the portable kernel's floats.
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> value(-10.0f, 10.0f);
+  std::vector<StencilTable> tables;
+  for (uint32_t num_control : {40u, 3000u, 300000u, 7u, 20000u, 500u})
+    tables.push_back(RandomTable(rng, num_control, 1 + rng() % 2000, 1 + int(rng() % 12)));
+  std::vector<std::vector<float>> inputs, expected;
+  for (const StencilTable& t : tables) {
+    inputs.emplace_back(7 * size_t{t.num_control});
+    for (float& x : inputs.back()) x = value(rng);
+    expected.emplace_back(6 * t.rows(), 3.0f);
+    t.Apply(inputs.back().data(), 7, expected.back().data(), 6, 5, StencilTable::Kernel::kPortable);
+  }
+  using Kernel = StencilTable::Kernel;
+  auto run_all = [&](Kernel kernel, std::vector<int>& differing) {
+    for (int pass = 0; pass < 2; ++pass)
+      for (size_t i = 0; i < tables.size(); ++i) {
+        std::vector<float> got(6 * tables[i].rows(), 3.0f);
+        tables[i].Apply(inputs[i].data(), 7, got.data(), 6, 5, kernel);
+        if (std::memcmp(got.data(), expected[i].data(), got.size() * sizeof(float)) != 0) differing[i] += 1;
+      }
+  };
+  for (Kernel kernel : {Kernel::kAuto, Kernel::kAvx2, Kernel::kAvx512}) {
+    INFO("kernel " << int(kernel));
+    std::vector<int> here(tables.size()), there(tables.size());
+    std::thread other([&] { run_all(kernel, there); });
+    run_all(kernel, here);
+    other.join();
+    for (size_t i = 0; i < tables.size(); ++i) {
+      INFO("table " << i << " control " << tables[i].num_control);
+      CHECK(here[i] == 0);
+      CHECK(there[i] == 0);
+    }
   }
 }

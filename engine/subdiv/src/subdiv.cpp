@@ -371,8 +371,12 @@ namespace {
 // component as the same sequence of double operations: sum = 0.0, then sum += w * x for
 // the row's weights in table order (w and x the float weight and input converted to
 // double), then the float of sum. They differ in how many of those operations one
-// instruction carries, so they give the same floats. This file is compiled with
-// -ffp-contract=off (engine/subdiv/CMakeLists.txt): no kernel fuses w * x + sum.
+// instruction carries, so they give the same floats. The AVX-512 kernel computes each
+// step as one fused multiply-add, which is the same operation: the product of two floats
+// has at most 48 significant bits and an exponent well inside double's range, so w * x is
+// exact in double and fma(w, x, sum) rounds w * x + sum once, as the separate add does.
+// This file is compiled with -ffp-contract=off (engine/subdiv/CMakeLists.txt), so that no
+// other fusion is left to the compiler.
 
 // Rows [begin, end) of table applied to kDims coordinates starting at in / out: the
 // portable kernel, reading the floats directly.
@@ -448,12 +452,24 @@ __attribute__((target("avx2"))) void ApplyRowsAvx2(const StencilTable& table, si
   }
 }
 
-// AVX-512 (5 to 8 components, kPad 8): one 8-double vector a weight (the lanes past kDims
-// sum zeros and are not stored), two weights an iteration.
+// Vertices [0, count) of in as 8 doubles each (AVX-512, 5 to 8 components): one masked
+// load of kDims floats (nothing past them is read, zeros in the other lanes) and one
+// conversion a vertex.
 template <int kDims>
-__attribute__((target("avx512f,avx512vl"))) void ApplyRowsAvx512(const StencilTable& table, size_t begin,
-                                                                 size_t end, const double* in, float* out,
-                                                                 size_t out_stride) {
+__attribute__((target("avx512f,avx512vl"))) void ToDoublesAvx512(const float* in, size_t in_stride, size_t count,
+                                                                  double* out) {
+  constexpr __mmask8 kLanes = static_cast<__mmask8>((1u << kDims) - 1);
+  for (size_t v = 0; v < count; ++v)
+    _mm512_store_pd(out + v * 8, _mm512_maskz_cvtps_pd(kLanes, _mm256_maskz_loadu_ps(kLanes, in + v * in_stride)));
+}
+
+// AVX-512 (5 to 8 components, kPad 8): one 8-double vector a weight (the lanes past kDims
+// sum zeros and are not stored), one fused multiply-add a weight (exact, see above), two
+// weights an iteration.
+template <int kDims>
+__attribute__((target("avx512f,avx512vl,fma"))) void ApplyRowsAvx512(const StencilTable& table, size_t begin,
+                                                                     size_t end, const double* in, float* out,
+                                                                     size_t out_stride) {
   static_assert(kDims > 4 && kDims <= 8);
   const uint32_t* offsets = table.offsets.data();
   const uint32_t* indices = table.indices.data();
@@ -466,12 +482,11 @@ __attribute__((target("avx512f,avx512vl"))) void ApplyRowsAvx512(const StencilTa
     for (; k + 1 < row_end; k += 2) {
       const __m512d a = _mm512_load_pd(in + size_t{indices[k]} * 8);
       const __m512d b = _mm512_load_pd(in + size_t{indices[k + 1]} * 8);
-      sum = _mm512_add_pd(sum, _mm512_mul_pd(_mm512_set1_pd(double{weights[k]}), a));
-      sum = _mm512_add_pd(sum, _mm512_mul_pd(_mm512_set1_pd(double{weights[k + 1]}), b));
+      sum = _mm512_fmadd_pd(_mm512_set1_pd(double{weights[k]}), a, sum);
+      sum = _mm512_fmadd_pd(_mm512_set1_pd(double{weights[k + 1]}), b, sum);
     }
     if (k < row_end)
-      sum = _mm512_add_pd(sum, _mm512_mul_pd(_mm512_set1_pd(double{weights[k]}),
-                                             _mm512_load_pd(in + size_t{indices[k]} * 8)));
+      sum = _mm512_fmadd_pd(_mm512_set1_pd(double{weights[k]}), _mm512_load_pd(in + size_t{indices[k]} * 8), sum);
     _mm256_mask_storeu_ps(out + i * out_stride, store, _mm512_maskz_cvtpd_ps(store, sum));
   }
 }
@@ -482,7 +497,8 @@ bool CpuHasAvx2() {
 }
 
 bool CpuHasAvx512() {
-  static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl");
+  static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+                          __builtin_cpu_supports("fma");
   return has;
 }
 
@@ -499,10 +515,35 @@ constexpr SimdKernel kAvx2Kernel = {ToDoubles<kDims, kDims <= 4 ? 4 : 8>, ApplyR
                                     kDims <= 4 ? 4 : 8};
 constexpr SimdKernel kAvx2ByDims[8] = {kAvx2Kernel<1>, kAvx2Kernel<2>, kAvx2Kernel<3>, kAvx2Kernel<4>,
                                        kAvx2Kernel<5>, kAvx2Kernel<6>, kAvx2Kernel<7>, kAvx2Kernel<8>};
-constexpr SimdKernel kAvx512ByDims[4] = {{ToDoubles<5, 8>, ApplyRowsAvx512<5>, 8},
-                                         {ToDoubles<6, 8>, ApplyRowsAvx512<6>, 8},
-                                         {ToDoubles<7, 8>, ApplyRowsAvx512<7>, 8},
-                                         {ToDoubles<8, 8>, ApplyRowsAvx512<8>, 8}};
+constexpr SimdKernel kAvx512ByDims[4] = {{ToDoublesAvx512<5>, ApplyRowsAvx512<5>, 8},
+                                         {ToDoublesAvx512<6>, ApplyRowsAvx512<6>, 8},
+                                         {ToDoublesAvx512<7>, ApplyRowsAvx512<7>, 8},
+                                         {ToDoublesAvx512<8>, ApplyRowsAvx512<8>, 8}};
+
+// Storage for count doubles of converted input, 64-byte aligned, or nullptr when it cannot
+// be allocated. Each thread keeps one buffer of up to kKeptScratchBytes between calls (a
+// table evaluated again and again, as in a fit or a benchmark, no longer allocates and
+// faults in fresh pages each call); a larger one is allocated for the call, in *owned.
+constexpr size_t kKeptScratchBytes = size_t{16} << 20;
+
+double* ScratchDoubles(size_t count, std::unique_ptr<double[]>& owned) {
+  const size_t size = count + 8;  // room to align to 64 bytes
+  auto aligned = [](double* p) {
+    return reinterpret_cast<double*>((reinterpret_cast<uintptr_t>(p) + 63) & ~uintptr_t{63});
+  };
+  if (size * sizeof(double) > kKeptScratchBytes) {
+    owned.reset(new (std::nothrow) double[size]);
+    return owned ? aligned(owned.get()) : nullptr;
+  }
+  thread_local std::unique_ptr<double[]> kept;
+  thread_local size_t kept_size = 0;
+  if (kept_size < size) {
+    kept.reset(new (std::nothrow) double[size]);
+    kept_size = kept ? size : 0;
+    if (!kept) return nullptr;
+  }
+  return aligned(kept.get());
+}
 
 // The SIMD kernel for nd components (nullptr: the portable one).
 const SimdKernel* PickSimdKernel(StencilTable::Kernel kernel, int nd) {
@@ -573,10 +614,8 @@ void StencilTable::Apply(const float* in, size_t in_stride, float* out, size_t o
     const int nd = std::min(8, dims - d0);
 #ifdef SDVI_STENCIL_X86
     if (const SimdKernel* k = simd ? PickSimdKernel(kernel, nd) : nullptr) {
-      const size_t size = size_t{num_control} * size_t(k->pad) + 8;
-      std::unique_ptr<double[]> buffer(new (std::nothrow) double[size]);
-      if (buffer) {  // else the portable kernel below
-        double* doubles = reinterpret_cast<double*>((reinterpret_cast<uintptr_t>(buffer.get()) + 63) & ~uintptr_t{63});
+      std::unique_ptr<double[]> owned;
+      if (double* doubles = ScratchDoubles(size_t{num_control} * size_t(k->pad), owned)) {  // else portable below
         k->convert(in + d0, in_stride, num_control, doubles);
         split([&](size_t begin, size_t end) { k->rows(*this, begin, end, doubles, out + d0, out_stride); });
         continue;
