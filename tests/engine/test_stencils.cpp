@@ -187,23 +187,25 @@ TEST_CASE("The stencil table does not depend on the number of threads", "[stenci
   for (int i = 2; i < 28; ++i) image.crease_edges.push_back(Edge::Of(test::GridIndex(30, i, 15), test::GridIndex(30, i + 1, 15)));
   std::sort(image.crease_edges.begin(), image.crease_edges.end());
   LimitSurfaceOptions options;
-  // Level 4: each of the three threads' blocks holds several of the chunks (2^18 entries)
-  // that are appended to the first block's arrays.
+  // The rows go in chunks of 4096 rows or more, taken in turn by the threads and appended
+  // in order: level 3 makes a few dozen chunks, level 4 a few hundred.
   for (int levels : {3, 4}) {
     options.levels = levels;
     options.threads = 1;
     auto one = BuildLimitSurface(image, options);
-    options.threads = 3;
-    auto three = BuildLimitSurface(image, options);
     REQUIRE(one.ok());
-    REQUIRE(three.ok());
     REQUIRE(one->stencils.rows() > 3 * 16384);
-    if (levels == 4) REQUIRE(one->stencils.indices.size() > 3 * 3 * (size_t{1} << 18));
-    CHECK(one->stencils.offsets == three->stencils.offsets);
-    CHECK(one->stencils.indices == three->stencils.indices);
-    CHECK(one->stencils.weights == three->stencils.weights);
-    CHECK(one->triangles == three->triangles);
-    CHECK(one->parent_triangle == three->parent_triangle);
+    for (int threads : {2, 3, 5}) {
+      INFO("levels " << levels << ", threads " << threads);
+      options.threads = threads;
+      auto several = BuildLimitSurface(image, options);
+      REQUIRE(several.ok());
+      CHECK(one->stencils.offsets == several->stencils.offsets);
+      CHECK(one->stencils.indices == several->stencils.indices);
+      CHECK(one->stencils.weights == several->stencils.weights);
+      CHECK(one->triangles == several->triangles);
+      CHECK(one->parent_triangle == several->parent_triangle);
+    }
   }
   options.levels = 3;
   auto direct_one = RefineImage(image, options);
@@ -276,6 +278,33 @@ TEST_CASE("Mask rows computed on the fly equal the built masks, and the table th
     REQUIRE(limit.rows() == mesh.num_vertices());
     require_rows(masks, [](const TaggedMesh& m, size_t r, auto& i, auto& w) { AppendRefinementRow(m, r, i, w); });
     require_rows(limit, [](const TaggedMesh& m, size_t r, auto& i, auto& w) { AppendLimitRow(m, uint32_t(r), i, w); });
+    // The merged edge-child mask: AppendEdgeChildLimitMask's entries summed, in order, into a
+    // dense accumulator cleared to 0 (each column where it first appears), bit for bit.
+    for (uint32_t e = 0; e < mesh.num_edges(); ++e) {
+      indices.clear();
+      weights.clear();
+      AppendEdgeChildLimitMask(mesh, e, indices, weights);
+      std::vector<uint32_t> columns;
+      std::vector<double> sums;
+      std::vector<double> dense(mesh.num_vertices(), 0.0);
+      std::vector<uint8_t> seen(mesh.num_vertices(), 0);
+      for (size_t k = 0; k < indices.size(); ++k) {
+        if (!seen[indices[k]]) {
+          seen[indices[k]] = 1;
+          columns.push_back(indices[k]);
+        }
+        dense[indices[k]] += weights[k];
+      }
+      for (uint32_t c : columns) sums.push_back(dense[c]);
+      std::vector<uint32_t> merged_indices{7};  // appended after what the vectors hold
+      std::vector<double> merged_weights{0.5};
+      AppendMergedEdgeChildLimitMask(mesh, e, merged_indices, merged_weights);
+      REQUIRE(merged_indices.size() == columns.size() + 1);
+      CHECK(merged_indices[0] == 7);
+      CHECK(std::equal(columns.begin(), columns.end(), merged_indices.begin() + 1));
+      REQUIRE(merged_weights.size() == sums.size() + 1);
+      CHECK(std::memcmp(merged_weights.data() + 1, sums.data(), sums.size() * sizeof(double)) == 0);
+    }
     // The level's table from the built masks: vertex children take their parent's limit
     // row, edge children the limit over their one-ring of refinement rows, repeated
     // columns merged first (in order of first appearance, summed in order).

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstring>
 #include <memory>
+#include <mutex>
 #include <new>
 #include <string>
 
@@ -176,33 +177,12 @@ FineSelection SelectOutput(const RefinementPlan& plan, const TaggedMesh& mesh, b
 // Scratch of one composing thread: a dense accumulator over the columns, and a row buffer
 // for mask rows computed on the fly.
 struct ComposeScratch {
+  explicit ComposeScratch(uint32_t num_columns) : accumulator(num_columns, 0.0), stamp(num_columns, kNoIndex) {}
   std::vector<double> accumulator;
   std::vector<uint32_t> stamp;
   std::vector<uint32_t> touched;
   std::vector<uint32_t> row_indices;
   std::vector<double> row_weights;
-  // Merges repeated indices of the row buffer (indices < num_rows_columns).
-  std::vector<double> row_accumulator;
-  std::vector<uint32_t> row_stamp;
-  void MergeRow(size_t num_row_columns, uint32_t stamp_value) {
-    if (row_stamp.size() < num_row_columns) {
-      row_stamp.assign(num_row_columns, kNoIndex);
-      row_accumulator.assign(num_row_columns, 0.0);
-    }
-    size_t n = 0;
-    for (size_t k = 0; k < row_indices.size(); ++k) {
-      const uint32_t i = row_indices[k];
-      if (row_stamp[i] != stamp_value) {
-        row_stamp[i] = stamp_value;
-        row_accumulator[i] = 0;
-        row_indices[n++] = i;
-      }
-      row_accumulator[i] += row_weights[k];
-    }
-    row_indices.resize(n);
-    row_weights.resize(n);
-    for (size_t k = 0; k < n; ++k) row_weights[k] = row_accumulator[row_indices[k]];
-  }
 };
 
 // An array filled by push_back in chunks of kChunk items, moved onto the end of a vector
@@ -313,53 +293,63 @@ void ComposeBlock(size_t begin, size_t end, const MaskRow& mask_row, const Spars
   }
 }
 
-// All rows of (mask x previous) into CSR arrays, in parallel blocks; deterministic
-// whatever the number of threads.
+// All rows of (mask x previous) into CSR arrays; deterministic whatever the number of
+// threads. With several threads the rows go in chunks taken in turn from a shared counter
+// (a thread that starts late or is held up by the machine's other work leaves its share to
+// the others), each into its own arrays; a chunk is moved onto the output as soon as every
+// chunk before it is there, so the chunks held at once are few.
 template <typename Weight, typename MaskRow>
 void Compose(int requested_threads, size_t num_rows, const MaskRow& mask_row, const SparseRows* previous,
              uint32_t num_columns, const std::vector<uint32_t>& index_map, std::vector<uint32_t>& offsets,
              std::vector<uint32_t>& indices, std::vector<Weight>& weights) {
   const unsigned threads = ThreadsFor(num_rows, requested_threads);
-  RowBlock<Weight, PlainArray> first;
-  std::vector<RowBlock<Weight, ChunkedArray>> rest(threads - 1);
-  // Block 0 reserves room for every block's entries, so that the others are appended to it
-  // without a new allocation (untouched reserved pages cost nothing).
+  // The output reserves room for every row's entries, so that the chunks are appended to
+  // it without a new allocation (untouched reserved pages cost nothing).
   const size_t per_row = previous ? 14 : 7;
-  first.estimate = per_row * num_rows;
-  auto run = [&](unsigned i) {
-    ComposeScratch scratch;
-    scratch.accumulator.assign(num_columns, 0.0);
-    scratch.stamp.assign(num_columns, kNoIndex);
-    const size_t begin = num_rows * i / threads, end = num_rows * (i + 1) / threads;
-    if (i == 0) {
-      ComposeBlock(begin, end, mask_row, previous, index_map, scratch, first);
-    } else {
-      ComposeBlock(begin, end, mask_row, previous, index_map, scratch, rest[i - 1]);
-    }
-  };
-  if (threads == 1) {
-    run(0);
-  } else {
-    RunTasks(int(threads), [&run](int i) { run(unsigned(i)); });
-  }
-  indices = std::move(first.indices);
-  weights = std::move(first.weights);
-  for (auto& block : rest) {
-    block.indices.MoveAppendTo(indices);
-    block.weights.MoveAppendTo(weights);
-  }
   internal::ReserveLarge(offsets, num_rows + 1);
   offsets.resize(num_rows + 1);
   offsets[0] = 0;
-  size_t r = 0;
-  auto add_sizes = [&](const std::vector<uint32_t>& sizes) {
-    for (uint32_t size : sizes) {
-      offsets[r + 1] = offsets[r] + size;
-      ++r;
+  if (threads == 1) {
+    RowBlock<Weight, PlainArray> block;
+    block.estimate = per_row * num_rows;
+    ComposeScratch scratch(num_columns);
+    ComposeBlock(0, num_rows, mask_row, previous, index_map, scratch, block);
+    indices = std::move(block.indices);
+    weights = std::move(block.weights);
+    for (size_t r = 0; r < num_rows; ++r) offsets[r + 1] = offsets[r] + block.sizes[r];
+    return;
+  }
+  indices.clear();
+  weights.clear();
+  internal::ReserveLarge(indices, per_row * num_rows);
+  internal::ReserveLarge(weights, per_row * num_rows);
+  const size_t chunk = std::clamp<size_t>(num_rows / (16 * threads), 4096, 65536);
+  const size_t num_chunks = (num_rows + chunk - 1) / chunk;
+  std::vector<RowBlock<Weight, ChunkedArray>> blocks(num_chunks);
+  std::vector<uint8_t> done(num_chunks, 0);
+  std::mutex commit_mutex;
+  size_t committed = 0;  // chunks moved onto the output
+  std::atomic<size_t> next{0};
+  RunTasks(int(threads), [&](int) {
+    ComposeScratch scratch(num_columns);
+    for (size_t c; (c = next.fetch_add(1, std::memory_order_relaxed)) < num_chunks;) {
+      const size_t begin = c * chunk, end = std::min(num_rows, begin + chunk);
+      ComposeBlock(begin, end, mask_row, previous, index_map, scratch, blocks[c]);
+      std::lock_guard<std::mutex> lock(commit_mutex);
+      done[c] = 1;
+      for (; committed < num_chunks && done[committed]; ++committed) {
+        RowBlock<Weight, ChunkedArray>& block = blocks[committed];
+        block.indices.MoveAppendTo(indices);
+        block.weights.MoveAppendTo(weights);
+        size_t r = committed * chunk;
+        for (uint32_t size : block.sizes) {
+          offsets[r + 1] = offsets[r] + size;
+          ++r;
+        }
+        std::vector<uint32_t>().swap(block.sizes);
+      }
     }
-  };
-  add_sizes(first.sizes);
-  for (const auto& block : rest) add_sizes(block.sizes);
+  });
 }
 
 
@@ -688,8 +678,7 @@ StatusOr<LimitSurface> BuildLimitSurface(const Image& image, const LimitSurfaceO
     } else if (v < nv) {
       AppendLimitRow(mesh, v, s.row_indices, s.row_weights);  // the parent's limit
     } else {
-      AppendEdgeChildLimitMask(mesh, v - nv, s.row_indices, s.row_weights);
-      s.MergeRow(nv, static_cast<uint32_t>(r));
+      AppendMergedEdgeChildLimitMask(mesh, v - nv, s.row_indices, s.row_weights);
     }
   };
   Compose(options.threads, num_rows, output_row, previous, num_base, plan.vertex_map,

@@ -584,4 +584,59 @@ void AppendEdgeChildLimitMask(const TaggedMesh& mesh, uint32_t e, std::vector<ui
   }
 }
 
+namespace {
+
+// Appends a row's terms, each times scale, to a merged row in a buffer sized for them: a
+// term whose index is already there is added to its sum, in order; a new index is appended
+// with 0.0 + the term (what a dense accumulator cleared to 0 gives). Weights of exactly 0
+// are dropped, as Push does. A row has a few dozen terms, so searching the merged indices
+// is cheaper than a dense accumulator over the level's vertices, which misses the caches.
+struct MergedRows {
+  uint32_t* indices;
+  double* weights;
+  size_t size = 0;
+  double scale = 1.0;
+  void Add(uint32_t index, double weight) {
+    if (weight == 0) return;
+    const double term = scale * weight;
+    size_t j = 0;
+    while (j < size && indices[j] != index) ++j;
+    if (j == size) {
+      indices[size] = index;
+      weights[size++] = 0.0 + term;
+    } else {
+      weights[j] += term;
+    }
+  }
+  void EndRow() {}
+};
+
+}  // namespace
+
+void AppendMergedEdgeChildLimitMask(const TaggedMesh& mesh, uint32_t e, std::vector<uint32_t>& indices,
+                                    std::vector<double>& weights) {
+  uint32_t children[7];
+  double lambda[7];
+  const int n = EdgeChildLimitRing(mesh, e, children, lambda);
+  const uint32_t nv = mesh.num_vertices();
+  // Room for every term: a vertex row has at most 1 + valence, an edge row at most 4.
+  size_t room = 0;
+  for (int k = 0; k < n; ++k) room += children[k] < nv ? 1 + mesh.neighbours(children[k]).size() : 4;
+  const size_t first = indices.size();
+  indices.resize(first + room);
+  weights.resize(first + room);
+  MergedRows sink{indices.data() + first, weights.data() + first};
+  for (int k = 0; k < n; ++k) {
+    if (lambda[k] == 0) continue;
+    sink.scale = lambda[k];
+    if (children[k] < nv) {
+      VertexRows(mesh, children[k], children[k] + 1, rules::SmoothVertexRule, rules::CreaseVertexRule, sink);
+    } else {
+      EdgeRows(mesh, children[k] - nv, children[k] - nv + 1, sink);
+    }
+  }
+  indices.resize(first + sink.size);
+  weights.resize(first + sink.size);
+}
+
 }  // namespace sdvi

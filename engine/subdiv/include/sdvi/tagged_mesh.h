@@ -149,6 +149,11 @@ void AppendLimitRow(const TaggedMesh& mesh, uint32_t v, std::vector<uint32_t>& i
 // parent: AppendLimitRow.)
 void AppendEdgeChildLimitMask(const TaggedMesh& mesh, uint32_t e, std::vector<uint32_t>& indices,
                               std::vector<double>& weights);
+// The same mask with repeated indices merged: each index once, where it first appears, its
+// weight 0.0 + its first entry + its later ones in order (what summing the entries into a
+// dense accumulator cleared to 0 gives, bit for bit). BuildLimitSurface's edge-child rows.
+void AppendMergedEdgeChildLimitMask(const TaggedMesh& mesh, uint32_t e, std::vector<uint32_t>& indices,
+                                    std::vector<double>& weights);
 
 // The same limit as a combination of the next level's vertices (the child's one-ring
 // there, numbered as in mesh.Refine(): vertex children first, then edge children): at most
