@@ -434,3 +434,34 @@ TEST_CASE("A BMP with 24 bits a pixel that says RLE8 is a clear error, not a cra
     CHECK(out.status().message().find("rle.bmp: damaged BMP header: RLE") != std::string::npos);
   }
 }
+
+TEST_CASE("Only the listed formats are read: an SGI file is refused by extension or content", "[raster_input]") {
+  // A 4x3 grey SGI image (verbatim storage, 1 byte a sample), byte by byte: OpenImageIO 2.4
+  // reads it, and before sdvi chose its readers it was decoded under any name.
+  std::vector<uint8_t> sgi(512, 0);
+  const uint8_t header[] = {0x01, 0xDA, 0, 1, 0, 2, 0, 4, 0, 3, 0, 1, 0, 0, 0, 0, 0, 0, 0, 255};
+  std::copy(std::begin(header), std::end(header), sgi.begin());
+  for (int i = 0; i < 12; ++i) sgi.push_back(uint8_t(20 * i));
+  auto named = DecodeRaster(sgi, "grey.sgi");
+  REQUIRE_FALSE(named.ok());
+  CHECK(named.status().code() == StatusCode::kUnsupportedFormat);
+  CHECK(named.status().message() ==
+        "grey.sgi: the extension says sgi, which sdvi does not read, and the bytes are none of PNG, JPEG, TIFF, BMP, "
+        "GIF, WebP, OpenEXR, Radiance HDR, PNM, TGA");
+  for (const char* name : {"grey", "grey.png"}) {
+    auto other = DecodeRaster(sgi, name);
+    REQUIRE_FALSE(other.ok());
+    CHECK(other.status().code() == StatusCode::kDecodeFailed);
+    CHECK(other.status().message().rfind(std::string(name) + ": not an image sdvi can decode (", 0) == 0);
+  }
+  // A listed format is read whatever the name says: a PNG named .jpg, or with no extension.
+  std::vector<uint8_t> png;
+  REQUIRE(cv::imencode(".png", cv::Mat(3, 4, CV_8UC1, cv::Scalar(77)), png));
+  for (const char* name : {"grey.jpg", "grey", "grey.sgi"}) {
+    auto read = DecodeRaster(png, name);
+    INFO(name);
+    REQUIRE_OK(read);
+    CHECK(read->width == 4);
+    CHECK(read->data[0] == 77.0f);
+  }
+}

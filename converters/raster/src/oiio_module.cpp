@@ -11,6 +11,7 @@
 #include "oiio_module.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <exception>
@@ -37,11 +38,11 @@ class BoundedMemReader final : public OIIO::Filesystem::IOMemReader {
  public:
   using IOMemReader::IOMemReader;
   bool seek(int64_t offset) override {
-    if (offset < 0 || uint64_t(offset) > m_buf.size()) return false;
+    if (offset < 0 || uint64_t(offset) > uint64_t(m_buf.size())) return false;
     return IOMemReader::seek(offset);
   }
   size_t pread(void* buf, size_t size, int64_t offset) override {
-    if (offset < 0 || uint64_t(offset) > m_buf.size()) return 0;
+    if (offset < 0 || uint64_t(offset) > uint64_t(m_buf.size())) return 0;
     return IOMemReader::pread(buf, size, offset);
   }
   size_t read(void* buf, size_t size) override {
@@ -72,6 +73,64 @@ Status CheckBmpCompression(const std::vector<uint8_t>& bytes, const std::string&
                                                " compression with " + std::to_string(bits) +
                                                " bits a pixel (RLE" + std::to_string(needs) + " needs " +
                                                std::to_string(needs) + ")");
+}
+
+// The readers sdvi uses (the formats of spec/RASTER_INPUT.md), in the order they are tried on
+// bytes the extension's reader refuses or whose extension names none of them; TGA last, as
+// it has no signature. OpenImageIO 2.4 carries 28 readers and, when the extension's reader
+// fails, tries every one (FFmpeg, LibRaw, DCMTK, OpenVDB, and its own parsers of PSD, DDS,
+// ICO, SGI, RLA, IFF, FITS, DPX, ...), each code that a hostile file could reach. sdvi opens
+// only these.
+struct Reader {
+  const char* format;  // OpenImageIO's name
+  const char* title;   // for messages
+};
+constexpr Reader kReaders[] = {{"png", "PNG"},          {"jpeg", "JPEG"}, {"tiff", "TIFF"},   {"bmp", "BMP"},
+                               {"gif", "GIF"},          {"webp", "WebP"}, {"openexr", "OpenEXR"},
+                               {"hdr", "Radiance HDR"}, {"pnm", "PNM"},   {"targa", "TGA"}};
+
+// OpenImageIO's format for the name's extension ("" when it has none or an unknown one).
+std::string FormatOfExtension(const std::string& name) {
+  std::string ext = OIIO::Filesystem::extension(name, false);
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (ext.empty()) return {};
+  for (const auto& [format, extensions] : OIIO::get_extension_map())
+    if (std::find(extensions.begin(), extensions.end(), ext) != extensions.end()) return format;
+  return {};
+}
+
+// The bytes opened by the first of kReaders that accepts them, the extension's reader first.
+StatusOr<std::unique_ptr<OIIO::ImageInput>> OpenWithReaders(BoundedMemReader& reader, const OIIO::ImageSpec& config,
+                                                            const std::string& name) {
+  const std::string implied = FormatOfExtension(name);
+  std::vector<const Reader*> order;
+  for (const Reader& r : kReaders)
+    if (implied == r.format) order.push_back(&r);
+  const bool implied_read = !order.empty();
+  std::string titles;
+  for (const Reader& r : kReaders) {
+    if (implied != r.format) order.push_back(&r);
+    titles += std::string(titles.empty() ? "" : ", ") + r.title;
+  }
+  std::string why;  // the extension's reader's words, when it refused the bytes
+  for (const Reader* r : order) {
+    OIIO::Filesystem::IOProxy* proxy = &reader;
+    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::create(r->format, false, &config, proxy);
+    if (!in) continue;  // a reader this OpenImageIO was built without
+    in->set_ioproxy(proxy);
+    reader.seek(0);
+    OIIO::ImageSpec spec;
+    if (in->open(name, spec, config)) return in;
+    if (r->format == implied) why = in->geterror();
+  }
+  for (char& c : why)
+    if (c == '\n') c = ' ';
+  if (!implied.empty() && !implied_read)
+    return Status(StatusCode::kUnsupportedFormat, name + ": the extension says " + implied +
+                                                      ", which sdvi does not read, and the bytes are none of " +
+                                                      titles);
+  return Status(StatusCode::kDecodeFailed, name + ": not an image sdvi can decode (" +
+                                               (why.empty() ? "the bytes are none of " + titles : why) + ")");
 }
 
 // sRGB transfer function (IEC 61966-2-1): linear 0..1 -> 0..255.
@@ -227,12 +286,7 @@ StatusOr<OiioDecoded> Decode(const std::vector<uint8_t>& bytes, const std::strin
     OIIO::ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1);  // keep PNG/TIFF alpha straight, as stored
     config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
-    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(name, &config, &reader);
-    if (!in) {
-      const std::string why = OIIO::geterror();
-      return Status(StatusCode::kDecodeFailed, name + ": not an image sdvi can decode" +
-                                                   (why.empty() ? std::string() : " (" + why + ")"));
-    }
+    SDVI_ASSIGN_OR_RETURN(std::unique_ptr<OIIO::ImageInput> in, OpenWithReaders(reader, config, name));
     OiioDecoded out;
     out.format = in->format_name();
     if (out.format == "bmp") SDVI_RETURN_IF_ERROR(CheckBmpCompression(bytes, name));
