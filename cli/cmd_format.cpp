@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // sdvi convert (mesh JSON <-> .sdvi) and sdvi info (what a .sdvi file holds).
+#include <algorithm>
 #include <cstdio>
-#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "args.h"
 #include "commands.h"
@@ -47,18 +48,25 @@ StatusOr<Image> LoadAny(const std::string& path) {
 // Vertices that are corners: tagged explicitly, or with crease degree 1 or >= 3 counting
 // the listed crease edges and the mesh boundary (spec/SUBDIVISION.md section 1).
 size_t CountCorners(const Image& image) {
-  std::map<Edge, int> edge_triangles;
+  // Every triangle's edges, sorted: an edge that occurs once is on the mesh boundary.
+  std::vector<Edge> edges;
+  edges.reserve(3 * image.triangles.size());
   for (const Triangle& t : image.triangles)
-    for (int e = 0; e < 3; ++e) ++edge_triangles[Edge::Of(t.v[e], t.v[(e + 1) % 3])];
+    for (int e = 0; e < 3; ++e) edges.push_back(Edge::Of(t.v[e], t.v[(e + 1) % 3]));
+  std::sort(edges.begin(), edges.end());
   std::vector<int> crease_degree(image.vertices.size(), 0);
   auto count_edge = [&](const Edge& e) {
     ++crease_degree[e.a];
     ++crease_degree[e.b];
   };
   for (const Edge& e : image.crease_edges) count_edge(e);
-  for (const auto& [e, n] : edge_triangles)
-    if (n == 1 && !std::binary_search(image.crease_edges.begin(), image.crease_edges.end(), e))
-      count_edge(e);
+  for (size_t i = 0; i < edges.size();) {
+    size_t j = i + 1;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    if (j - i == 1 && !std::binary_search(image.crease_edges.begin(), image.crease_edges.end(), edges[i]))
+      count_edge(edges[i]);
+    i = j;
+  }
   size_t corners = 0;
   for (size_t v = 0; v < crease_degree.size(); ++v) {
     const bool explicit_corner =

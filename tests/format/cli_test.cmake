@@ -32,7 +32,12 @@ string(JSON t GET "${last_out}" triangles)
 string(JSON paper GET "${last_out}" paper_size_bytes)
 string(JSON bytes GET "${last_out}" file_bytes)
 string(JSON t3 GET "${last_out}" tagged_triangles 3)
-if(NOT v EQUAL 49 OR NOT t EQUAL 72 OR NOT paper EQUAL 1420 OR NOT bytes EQUAL 1800 OR NOT t3 EQUAL 1)
+string(JSON corners GET "${last_out}" corners)
+string(JSON explicit GET "${last_out}" corners_explicit)
+# Corners: the 6 explicit ones and 8 more of crease degree 1 or >= 3 (the listed crease edges
+# and the boundary's; counted from golden_v1_0.json by hand, spec/SUBDIVISION.md section 1).
+if(NOT v EQUAL 49 OR NOT t EQUAL 72 OR NOT paper EQUAL 1420 OR NOT bytes EQUAL 1800 OR NOT t3 EQUAL 1
+   OR NOT corners EQUAL 14 OR NOT explicit EQUAL 6)
   message(FATAL_ERROR "unexpected info --json:\n${last_out}")
 endif()
 
@@ -47,8 +52,12 @@ run_sdvi(0 convert ${WORK}/plain.json ${WORK}/plain.sdvi)
 run_sdvi(0 info ${WORK}/plain.sdvi --json)
 string(JSON within GET "${last_out}" within_paper_bound)
 string(JSON overhead GET "${last_out}" container_overhead_bytes)
+string(JSON corners GET "${last_out}" corners)
 if(NOT within OR NOT overhead EQUAL 60)
   message(FATAL_ERROR "expected a file within the paper bound, 60 bytes over:\n${last_out}")
+endif()
+if(NOT corners EQUAL 8)
+  message(FATAL_ERROR "without explicit corners, expected the 8 of crease degree 1 or >= 3:\n${last_out}")
 endif()
 
 # Errors: non-zero exit, the status on stderr, no output file.
