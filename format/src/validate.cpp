@@ -64,10 +64,11 @@ Status ValidateTopology(const Image& image, const std::string& source) {
   for (size_t i = 0; i < records.size();) {
     size_t j = i;
     while (j < records.size() && records[j].a == records[i].a && records[j].b == records[i].b) ++j;
-    const std::string edge = "edge (" + std::to_string(records[i].a) + ", " + std::to_string(records[i].b) + ")";
+    // The edge's words, made for an error message only, not for each edge of a valid file.
+    auto edge = [&] { return "edge (" + std::to_string(records[i].a) + ", " + std::to_string(records[i].b) + ")"; };
     if (j - i > 2)
       return Status(StatusCode::kNonManifoldEdge,
-                    source + ": " + edge + " is shared by " + std::to_string(j - i) +
+                    source + ": " + edge() + " is shared by " + std::to_string(j - i) +
                         " triangles (" + std::to_string(records[i].t) + ", " +
                         std::to_string(records[i + 1].t) + ", " + std::to_string(records[i + 2].t) +
                         (j - i > 3 ? ", ..." : "") + "); at most two are allowed");
@@ -79,7 +80,7 @@ Status ValidateTopology(const Image& image, const std::string& source) {
       if (t0.v[r0.k] == t1.v[r1.k])
         return Status(StatusCode::kInvalidMesh,
                       source + ": triangles " + std::to_string(r0.t) + " and " + std::to_string(r1.t) +
-                          " traverse " + edge +
+                          " traverse " + edge() +
                           " in the same direction (the orientation is not consistent)");
       const Vertex& a = image.vertices[r0.a];
       const Vertex& b = image.vertices[r0.b];
@@ -89,7 +90,7 @@ Status ValidateTopology(const Image& image, const std::string& source) {
       if (d0 * d1 > 0 && std::min(std::abs(d0), std::abs(d1)) > tolerance * length)
         return Status(StatusCode::kFoldedTriangle,
                       source + ": " + TriangleText(r0.t, t0) + " and " + TriangleText(r1.t, t1) +
-                          " lie on the same side of their shared " + edge +
+                          " lie on the same side of their shared " + edge() +
                           " (the mesh folds over itself)");
     }
     i = j;
