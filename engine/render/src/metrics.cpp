@@ -58,6 +58,49 @@ constexpr int kSsimBandRows = 128;
 // Columns of a strip: a band is filtered strip by strip (see ChannelSsim).
 constexpr int kSsimStripColumns = 512;
 
+// The two loops that take most of the MSSIM's time, each compiled twice (AVX2 and the
+// baseline, chosen when the program loads): the loops run over independent pixels, so the
+// wider registers compute each pixel's products and sums exactly as the baseline does (no
+// fused multiply-add: the AVX2 clone has none to contract into).
+//
+// Tap k of a run of n pixels whose every tap is compared: ax[i], bx[i] the tap's two values
+// for pixel i; m1..m5 the pixels' moments sum g x (a, b, a a, b b, a b).
+__attribute__((target_clones("avx2", "default"))) void AddTap(double gw, const double* __restrict ax,
+                                                               const double* __restrict bx, int n,
+                                                               double* __restrict m1, double* __restrict m2,
+                                                               double* __restrict m3, double* __restrict m4,
+                                                               double* __restrict m5) {
+  for (int i = 0; i < n; ++i) {
+    const double a = ax[i], b = bx[i];
+    m1[i] += gw * a;
+    m2[i] += gw * b;
+    m3[i] += gw * a * a;
+    m4[i] += gw * b * b;
+    m5[i] += gw * a * b;
+  }
+}
+
+// acc[q] += gw row[q], q < count (one row of the vertical filter).
+__attribute__((target_clones("avx2", "default"))) void AddScaled(double gw, const double* __restrict row,
+                                                                  size_t count, double* __restrict acc) {
+  for (size_t q = 0; q < count; ++q) acc[q] += gw * row[q];
+}
+
+// SSIM of pixels [i0, i1) of a strip from their filtered moments: acc[m sw + i] the moment m
+// (weight, x, y, x^2, y^2, x y) of pixel i; out[i] its term.
+__attribute__((target_clones("avx2", "default"))) void SsimTerms(const double* __restrict acc, size_t sw,
+                                                                  size_t i0, size_t i1,
+                                                                  double* __restrict out) {
+  for (size_t i = i0; i < i1; ++i) {
+    const double wsum = acc[i];
+    const double mx = acc[sw + i] / wsum, my = acc[2 * sw + i] / wsum;
+    const double vx = acc[3 * sw + i] / wsum - mx * mx;
+    const double vy = acc[4 * sw + i] / wsum - my * my;
+    const double cxy = acc[5 * sw + i] / wsum - mx * my;
+    out[i] = ((2 * mx * my + kC1) * (2 * cxy + kC2)) / ((mx * mx + my * my + kC1) * (vx + vy + kC2));
+  }
+}
+
 // Mean SSIM of one channel over the compared pixels (mask), at pixels >= kRadius from the
 // border when the image allows it. Rows are filtered horizontally into a ring of
 // 2*kRadius+1 rows of the six moments, then combined vertically, in strips of columns (the
@@ -143,17 +186,7 @@ SsimSum ChannelSsim(X x, Y y, const std::vector<uint8_t>& mask,
               m1[i] = m2[i] = m3[i] = m4[i] = m5[i] = 0.0;
             }
             for (int k = 0; k < kWin; ++k) {
-              const double gw = g[k];
-              const double* ax = row_x.data() + k;  // ax[i]: tap k of pixel f0 + i
-              const double* bx = row_y.data() + k;
-              for (int i = 0; i < n; ++i) {
-                const double a = ax[i], b = bx[i];
-                m1[i] += gw * a;
-                m2[i] += gw * b;
-                m3[i] += gw * a * a;
-                m4[i] += gw * b * b;
-                m5[i] += gw * a * b;
-              }
+              AddTap(g[k], row_x.data() + k, row_y.data() + k, n, m1, m2, m3, m4, m5);
             }
           }
         }
@@ -163,21 +196,13 @@ SsimSum ChannelSsim(X x, Y y, const std::vector<uint8_t>& mask,
         for (int k = -kRadius; k <= kRadius; ++k) {
           const int ys = yo + k;
           if (ys < 0 || ys >= h) continue;
-          const double gw = g[k + kRadius];
-          const double* row = &ring[size_t(ys % kWin) * kMoments * sw];
-          for (size_t q = 0; q < size_t(kMoments) * sw; ++q) acc[q] += gw * row[q];
+          AddScaled(g[k + kRadius], &ring[size_t(ys % kWin) * kMoments * sw], size_t(kMoments) * sw, acc.data());
         }
         double* out = &terms[size_t(yo - slab0) * w];
-        for (int xo = std::max(x0, c0); xo < std::min(x1, c1); ++xo) {
-          if (!mask[size_t(yo) * w + xo]) continue;
-          const size_t i = size_t(xo - c0);
-          const double wsum = acc[i];
-          const double mx = acc[size_t(1) * sw + i] / wsum, my = acc[size_t(2) * sw + i] / wsum;
-          const double vx = acc[size_t(3) * sw + i] / wsum - mx * mx;
-          const double vy = acc[size_t(4) * sw + i] / wsum - my * my;
-          const double cxy = acc[size_t(5) * sw + i] / wsum - mx * my;
-          out[xo] = ((2 * mx * my + kC1) * (2 * cxy + kC2)) / ((mx * mx + my * my + kC1) * (vx + vy + kC2));
-        }
+        // Every pixel of the strip's counted columns (a pixel outside the mask gets a term
+        // that the sum below skips).
+        const int lo = std::max(x0, c0), hi = std::min(x1, c1);
+        if (lo < hi) SsimTerms(acc.data(), size_t(sw), size_t(lo - c0), size_t(hi - c0), out + c0);
       }
     }
   };
