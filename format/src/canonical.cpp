@@ -34,15 +34,6 @@ bool Finite(const Vertex& v) {
          std::isfinite(v.b);
 }
 
-std::string EdgeText(const Edge& e) {
-  std::string text = "(";
-  text += std::to_string(e.a);
-  text += ", ";
-  text += std::to_string(e.b);
-  text += ")";
-  return text;
-}
-
 }  // namespace
 
 uint32_t Crc32(std::span<const uint8_t> bytes, uint32_t crc) {
@@ -52,6 +43,15 @@ uint32_t Crc32(std::span<const uint8_t> bytes, uint32_t crc) {
 }
 
 namespace format_internal {
+
+std::string EdgeText(const Edge& e) {
+  std::string text = "(";
+  text += std::to_string(e.a);
+  text += ", ";
+  text += std::to_string(e.b);
+  text += ")";
+  return text;
+}
 
 int TaggedEdgeMask(const std::vector<Edge>& sorted_creases, const Triangle& t) {
   int mask = 0;

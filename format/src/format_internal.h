@@ -35,6 +35,9 @@ bool SetsAreNormalized(const Image& image);
 // Makes crease_edges and corners so (Edge::Of, sort, unique).
 void NormalizeSets(Image& image);
 
+// An edge as messages name it: "(a, b)".
+std::string EdgeText(const Edge& e);
+
 // A vertex opposite an edge counts as across it when farther than this (pixels; plus
 // float rounding at the image's scale): spec/FORMAT.md section 9, check 24.
 inline constexpr double kFoldTolerance = 1.0 / 1024;

@@ -64,8 +64,8 @@ Status ValidateTopology(const Image& image, const std::string& source) {
   for (size_t i = 0; i < records.size();) {
     size_t j = i;
     while (j < records.size() && records[j].a == records[i].a && records[j].b == records[i].b) ++j;
-    // The edge's words, made for an error message only, not for each edge of a valid file.
-    auto edge = [&] { return "edge (" + std::to_string(records[i].a) + ", " + std::to_string(records[i].b) + ")"; };
+    // Named for an error message only, not for each edge of a valid file.
+    auto edge = [&] { return "edge " + EdgeText(Edge{records[i].a, records[i].b}); };
     if (j - i > 2)
       return Status(StatusCode::kNonManifoldEdge,
                     source + ": " + edge() + " is shared by " + std::to_string(j - i) +

@@ -104,14 +104,13 @@ StatusOr<std::unique_ptr<OIIO::ImageInput>> OpenWithReaders(BoundedMemReader& re
                                                             const std::string& name) {
   const std::string implied = FormatOfExtension(name);
   std::vector<const Reader*> order;
-  for (const Reader& r : kReaders)
-    if (implied == r.format) order.push_back(&r);
-  const bool implied_read = !order.empty();
   std::string titles;
   for (const Reader& r : kReaders) {
-    if (implied != r.format) order.push_back(&r);
+    order.push_back(&r);
     titles += std::string(titles.empty() ? "" : ", ") + r.title;
   }
+  std::stable_partition(order.begin(), order.end(), [&](const Reader* r) { return implied == r->format; });
+  const bool implied_read = implied == order.front()->format;
   std::string why;  // the extension's reader's words, when it refused the bytes
   for (const Reader* r : order) {
     OIIO::Filesystem::IOProxy* proxy = &reader;

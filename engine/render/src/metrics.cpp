@@ -58,7 +58,7 @@ constexpr int kSsimBandRows = 128;
 // Columns of a strip: a band is filtered strip by strip (see ChannelSsim).
 constexpr int kSsimStripColumns = 512;
 
-// The two loops that take most of the MSSIM's time, each compiled twice (AVX2 and the
+// The three loops that take most of the MSSIM's time, each compiled twice (AVX2 and the
 // baseline, chosen when the program loads): the loops run over independent pixels, so the
 // wider registers compute each pixel's products and sums exactly as the baseline does (no
 // fused multiply-add: the AVX2 clone has none to contract into).
