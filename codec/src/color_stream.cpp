@@ -11,10 +11,10 @@
 namespace sdvi::codec_internal {
 namespace {
 
-constexpr int kLengths = 32;  // a residual is below 2^31 in size
+constexpr int kColorLengths = 32;  // a residual is below 2^31 in size
 
 // One set of residual models per component (L, C1, C2).
-using ColorModels = std::array<ResidualModels<kLengths>, 3>;
+using ColorModels = std::array<ResidualModels<kColorLengths>, 3>;
 
 }  // namespace
 

@@ -12,10 +12,10 @@
 namespace sdvi::codec_internal {
 namespace {
 
-constexpr int kLengths = 25;  // a residual is below 2^24 in size: lengths 0..24
+constexpr int kPositionLengths = 25;  // a residual is below 2^24 in size: lengths 0..24
 
 // One set of residual models per coordinate (x, y).
-using PositionModels = std::array<ResidualModels<kLengths>, 2>;
+using PositionModels = std::array<ResidualModels<kPositionLengths>, 2>;
 
 uint32_t FloatBits(float f) {
   uint32_t u;

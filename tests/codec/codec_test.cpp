@@ -45,12 +45,10 @@ struct Encoded {
   std::vector<uint32_t> new_index;
 };
 
-Encoded MustEncode(const Image& image, const CompressOptions& options = {}) {
+// The payload and the encoder's new vertex order.
+Encoded MustEncodeIndexed(const Image& image, const CompressOptions& options = {}) {
   Encoded e;
-  auto payload = sdvi::EncodeDracoPayload(image, options, &e.new_index);
-  INFO(payload.status().ToString());
-  REQUIRE(payload.ok());
-  e.payload = std::move(payload).value();
+  e.payload = sdvi::testing::MustEncode(image, options, &e.new_index);
   return e;
 }
 
@@ -60,7 +58,7 @@ TEST_CASE("default round trip keeps topology and tags exactly, values within the
           "[codec]") {
   for (bool shuffle : {false, true}) {
     const Image image = sdvi::testing::SyntheticGridImage(512, 384, 40, 30, 11, shuffle);
-    const Encoded e = MustEncode(image);
+    const Encoded e = MustEncodeIndexed(image);
     const Image decoded = sdvi::testing::MustDecode(e.payload);
     RequireRoundTrip(image, decoded, e.new_index, sdvi::DefaultPositionBits(image),
                      sdvi::DefaultColorBits(image));
@@ -73,7 +71,7 @@ TEST_CASE("explicit quantization bits bound the error as stated", "[codec]") {
     CompressOptions options;
     options.position_bits = bits;
     options.color_bits = bits - 2;
-    const Encoded e = MustEncode(image, options);
+    const Encoded e = MustEncodeIndexed(image, options);
     RequireRoundTrip(image, sdvi::testing::MustDecode(e.payload), e.new_index, bits, bits - 2);
   }
 }
@@ -82,20 +80,20 @@ TEST_CASE("keep_vertex_order decodes vertices in their original order", "[codec]
   const Image image = sdvi::testing::SyntheticGridImage(256, 256, 20, 20, 3, /*shuffle=*/true);
   CompressOptions options;
   options.keep_vertex_order = true;
-  const Encoded e = MustEncode(image, options);
+  const Encoded e = MustEncodeIndexed(image, options);
   std::vector<uint32_t> identity(image.vertices.size());
   std::iota(identity.begin(), identity.end(), 0u);
   CHECK(e.new_index == identity);
   RequireRoundTrip(image, sdvi::testing::MustDecode(e.payload), e.new_index, sdvi::DefaultPositionBits(image),
                    sdvi::DefaultColorBits(image));
   // Without ids the payload is smaller (the shuffled numbering is expensive to keep).
-  const Encoded plain = MustEncode(image);
+  const Encoded plain = MustEncodeIndexed(image);
   CHECK(plain.payload.size() < e.payload.size());
 }
 
 TEST_CASE("the feature layer renumbered by the encoder points at the same vertices", "[codec]") {
   const Image image = sdvi::testing::SyntheticGridImage(200, 200, 15, 15, 9, true);
-  const Encoded e = MustEncode(image);
+  const Encoded e = MustEncodeIndexed(image);
   Image moved = image;
   REQUIRE(sdvi::RenumberVertices(e.new_index, &moved).ok());
   const Image decoded = sdvi::testing::MustDecode(e.payload);
@@ -115,7 +113,7 @@ TEST_CASE("encoding is deterministic", "[codec]") {
   for (int speed : {0, 5, 10}) {
     CompressOptions options;
     options.speed = speed;
-    CHECK(MustEncode(image, options).payload == MustEncode(image, options).payload);
+    CHECK(MustEncodeIndexed(image, options).payload == MustEncodeIndexed(image, options).payload);
   }
 }
 
@@ -124,7 +122,7 @@ TEST_CASE("every speed round trips, speed 10 through sequential encoding", "[cod
   for (int speed : {0, 3, 7, 10}) {
     CompressOptions options;
     options.speed = speed;
-    const Encoded e = MustEncode(image, options);
+    const Encoded e = MustEncodeIndexed(image, options);
     RequireRoundTrip(image, sdvi::testing::MustDecode(e.payload), e.new_index, sdvi::DefaultPositionBits(image),
                      sdvi::DefaultColorBits(image));
     auto info = sdvi::InspectDracoPayload(e.payload, "x");
@@ -147,7 +145,7 @@ TEST_CASE("meshes edgebreaker cannot carry still round trip (isolated vertex); n
     return;
   }
   image.vertices.push_back({10.5f, 20.25f, 1, 2, 3});  // isolated
-  const Encoded e = MustEncode(image);
+  const Encoded e = MustEncodeIndexed(image);
   RequireRoundTrip(image, sdvi::testing::MustDecode(e.payload), e.new_index, sdvi::DefaultPositionBits(image),
                    sdvi::DefaultColorBits(image));
 }
@@ -166,7 +164,7 @@ TEST_CASE("default quantization is chosen from the image size", "[codec]") {
 
 TEST_CASE("Draco payload is at most a quarter of the paper's raw size", "[codec]") {
   const Image image = sdvi::testing::SyntheticGridImage(512, 512, 100, 100, 8);
-  const Encoded e = MustEncode(image);
+  const Encoded e = MustEncodeIndexed(image);
   const size_t raw = image.vertices.size() * 20 + image.triangles.size() * 6 + 8;
   INFO("raw " << raw << " draco " << e.payload.size());
   CHECK(e.payload.size() * 4 <= raw);
@@ -174,7 +172,7 @@ TEST_CASE("Draco payload is at most a quarter of the paper's raw size", "[codec]
 
 TEST_CASE("truncated payloads are errors, never crashes", "[codec][corrupt]") {
   const Image image = sdvi::testing::SyntheticGridImage(100, 80, 10, 8, 6);
-  const Encoded e = MustEncode(image);
+  const Encoded e = MustEncodeIndexed(image);
   for (size_t n = 0; n < e.payload.size(); n += (n < 64 ? 1 : 7)) {
     std::vector<uint8_t> cut(e.payload.begin(), e.payload.begin() + n);
     Image out;
@@ -188,7 +186,7 @@ TEST_CASE("truncated payloads are errors, never crashes", "[codec][corrupt]") {
 
 TEST_CASE("flipped bytes are caught by the checksum", "[codec][corrupt]") {
   const Image image = sdvi::testing::SyntheticGridImage(100, 80, 10, 8, 6);
-  const Encoded e = MustEncode(image);
+  const Encoded e = MustEncodeIndexed(image);
   for (size_t i = 0; i < e.payload.size(); ++i) {
     std::vector<uint8_t> bad = e.payload;
     bad[i] ^= 0x10;
@@ -203,7 +201,7 @@ TEST_CASE("flipped bytes are caught by the checksum", "[codec][corrupt]") {
 TEST_CASE("damaged Draco bytes behind a valid checksum give errors or data, never crashes",
           "[codec][corrupt]") {
   const Image image = sdvi::testing::SyntheticGridImage(100, 80, 10, 8, 6);
-  const Encoded e = MustEncode(image);
+  const Encoded e = MustEncodeIndexed(image);
   auto info = sdvi::InspectDracoPayload(e.payload, "x");
   REQUIRE(info.ok());
   std::mt19937 rng(99);
@@ -229,7 +227,7 @@ TEST_CASE("damaged Draco bytes behind a valid checksum give errors or data, neve
 
 TEST_CASE("header problems have specific codes", "[codec][corrupt]") {
   const Image image = sdvi::testing::SyntheticGridImage(50, 50, 6, 6);
-  const Encoded e = MustEncode(image);
+  const Encoded e = MustEncodeIndexed(image);
   Image out;
   std::vector<uint8_t> bad = e.payload;
   bad[0] = 'X';
@@ -298,7 +296,7 @@ TEST_CASE("the feature layer travels exactly in the payload", "[codec][features]
   image.polylines.push_back({{42}, false});
   image.polylines.push_back({{}, false});
   image.pairs = {{0, 1, 0.3f}, {2, 4, 1.0f}, {3, 3, 0.0f}};
-  const Encoded e = MustEncode(image);
+  const Encoded e = MustEncodeIndexed(image);
   const Image decoded = sdvi::testing::MustDecode(e.payload);
   Image expected = image;
   REQUIRE(sdvi::RenumberVertices(e.new_index, &expected).ok());
@@ -308,7 +306,7 @@ TEST_CASE("the feature layer travels exactly in the payload", "[codec][features]
   // Without the feature layer in the payload, decoding leaves the caller's untouched.
   CompressOptions options;
   options.feature_layer = false;
-  const Encoded bare = MustEncode(image, options);
+  const Encoded bare = MustEncodeIndexed(image, options);
   CHECK(bare.payload.size() < e.payload.size());
   Image out;
   out.polylines.push_back({{1, 2}, false});
@@ -339,7 +337,7 @@ TEST_CASE("a reference MSE coarsens the default quantization within its limits",
   CHECK(sdvi::DefaultPositionBits(image, 1e9) == 12);   // at most 1/4 px: 2048 steps over 512
   CompressOptions options;
   options.reference_mse = 100;
-  const Encoded e = MustEncode(image, options);
+  const Encoded e = MustEncodeIndexed(image, options);
   auto info = sdvi::InspectDracoPayload(e.payload, "x");
   REQUIRE(info.ok());
   CHECK(info->position_bits == sdvi::DefaultPositionBits(image, 100));
@@ -351,7 +349,7 @@ TEST_CASE("a reference MSE coarsens the default quantization within its limits",
 TEST_CASE("grey images code one colour component and decode R = G = B", "[codec]") {
   Image image = sdvi::testing::SyntheticGridImage(256, 256, 24, 24, 41);
   for (auto& v : image.vertices) v.g = v.b = v.r;
-  const Encoded grey = MustEncode(image);
+  const Encoded grey = MustEncodeIndexed(image);
   auto info = sdvi::InspectDracoPayload(grey.payload, "g");
   REQUIRE(info.ok());
   CHECK(info->grey);
@@ -364,7 +362,7 @@ TEST_CASE("grey images code one colour component and decode R = G = B", "[codec]
                    sdvi::DefaultColorBits(image));
   Image almost = image;
   almost.vertices[7].b += 0.5f;  // one vertex not grey: three components
-  const Encoded colour = MustEncode(almost);
+  const Encoded colour = MustEncodeIndexed(almost);
   CHECK_FALSE(sdvi::InspectDracoPayload(colour.payload, "c")->grey);
   CHECK(grey.payload.size() < colour.payload.size());
 }

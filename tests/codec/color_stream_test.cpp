@@ -26,6 +26,7 @@ using sdvi::codec_internal::BitModel;
 using sdvi::codec_internal::RangeEncoder;
 using sdvi::testing::MustDecode;
 using sdvi::testing::MustEncode;
+using sdvi::testing::SameBits;
 
 namespace {
 
@@ -38,13 +39,6 @@ Image InOriginalNumbering(const std::vector<uint8_t>& payload, const std::vector
   REQUIRE(sdvi::RenumberVertices(old_index, &decoded).ok());
   sdvi::CanonicalizeTriangles(&decoded.triangles);
   return decoded;
-}
-
-bool SameBits(const Image& a, const Image& b) {
-  return a.vertices.size() == b.vertices.size() &&
-         std::memcmp(a.vertices.data(), b.vertices.data(), a.vertices.size() * sizeof(sdvi::Vertex)) == 0 &&
-         a.triangles == b.triangles && a.crease_edges == b.crease_edges && a.corners == b.corners &&
-         a.polylines == b.polylines && a.pairs == b.pairs;
 }
 
 uint32_t GetU32(const std::vector<uint8_t>& p, size_t at) {

@@ -17,6 +17,7 @@ using sdvi::CompressOptions;
 using sdvi::Image;
 using sdvi::StatusCode;
 using sdvi::testing::MustEncode;
+using sdvi::testing::SameBits;
 
 namespace {
 
@@ -32,13 +33,6 @@ Image IrregularImage(uint32_t seed, uint32_t cols = 30) {
     v.b = colour(rng);
   }
   return image;
-}
-
-bool SameBits(const Image& a, const Image& b) {
-  return a.vertices.size() == b.vertices.size() &&
-         std::memcmp(a.vertices.data(), b.vertices.data(), a.vertices.size() * sizeof(sdvi::Vertex)) == 0 &&
-         a.triangles == b.triangles && a.crease_edges == b.crease_edges && a.corners == b.corners &&
-         a.polylines == b.polylines && a.pairs == b.pairs;
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <numeric>
@@ -159,6 +160,13 @@ void CheckGoldenFile(const std::string& name) {
   CHECK(expected->corners == read->corners);
   CHECK(expected->polylines == read->polylines);
   CHECK(expected->pairs == read->pairs);
+}
+
+bool SameBits(const Image& a, const Image& b) {
+  return a.vertices.size() == b.vertices.size() &&
+         std::memcmp(a.vertices.data(), b.vertices.data(), a.vertices.size() * sizeof(Vertex)) == 0 &&
+         a.triangles == b.triangles && a.crease_edges == b.crease_edges && a.corners == b.corners &&
+         a.polylines == b.polylines && a.pairs == b.pairs;
 }
 
 Image MustDecode(const std::vector<uint8_t>& payload) {

@@ -49,6 +49,10 @@ void CheckRefused(const std::vector<uint8_t>& good, const std::vector<std::pair<
 std::vector<uint8_t> MustEncode(const Image& image, const CompressOptions& options,
                                 std::vector<uint32_t>* new_index = nullptr);
 
+// True when a and b hold the same vertices bit for bit and the same triangles, tags and
+// feature layer.
+bool SameBits(const Image& a, const Image& b);
+
 // The image a Draco payload decodes to; fails the current test (Catch2 REQUIRE, with the
 // decoder's message) when it does not decode.
 Image MustDecode(const std::vector<uint8_t>& payload);

@@ -9,6 +9,7 @@
 
 namespace {
 
+using sdvi::Distance;
 using sdvi::Point2;
 
 // de Boor's algorithm on an explicit knot vector (degree 3).
@@ -50,8 +51,6 @@ Point2 IndependentClosed(const std::vector<Point2>& P, double t) {
   return DeBoor(knots, ctrl, t);
 }
 
-double Dist(Point2 a, Point2 b) { return std::hypot(a.x - b.x, a.y - b.y); }
-
 // Max over samples of the distance to a dense sampling of the independent spline.
 double MaxDistanceToSpline(const std::vector<Point2>& samples, const std::vector<Point2>& P, bool closed) {
   std::vector<Point2> dense;
@@ -63,7 +62,7 @@ double MaxDistanceToSpline(const std::vector<Point2>& samples, const std::vector
   double worst = 0;
   for (const Point2& s : samples) {
     double best = 1e9;
-    for (const Point2& d : dense) best = std::min(best, Dist(s, d));
+    for (const Point2& d : dense) best = std::min(best, Distance(s, d));
     worst = std::max(worst, best);
   }
   return worst;
@@ -75,10 +74,10 @@ TEST_CASE("open spline evaluation matches an independent de Boor evaluation", "[
   std::vector<Point2> P{{0, 0}, {10, 3}, {14, 12}, {30, 8}, {35, -4}, {50, 2}};
   for (double t = 0; t <= 5.0; t += 0.05) {
     Point2 a = sdvi::EvaluateOpenBSpline(P, t), b = IndependentOpen(P, t);
-    REQUIRE(Dist(a, b) < 1e-9);
+    REQUIRE(Distance(a, b) < 1e-9);
   }
-  REQUIRE(Dist(sdvi::EvaluateOpenBSpline(P, 0), P.front()) < 1e-12);
-  REQUIRE(Dist(sdvi::EvaluateOpenBSpline(P, 5), P.back()) < 1e-12);
+  REQUIRE(Distance(sdvi::EvaluateOpenBSpline(P, 0), P.front()) < 1e-12);
+  REQUIRE(Distance(sdvi::EvaluateOpenBSpline(P, 5), P.back()) < 1e-12);
 }
 
 TEST_CASE("closed spline evaluation matches de Boor and the crease limit mask", "[bspline]") {
@@ -86,12 +85,12 @@ TEST_CASE("closed spline evaluation matches de Boor and the crease limit mask", 
   const int n = int(P.size());
   for (double t = 0; t < n; t += 0.05) {
     Point2 a = sdvi::EvaluateClosedBSpline(P, t), b = IndependentClosed(P, t);
-    REQUIRE(Dist(a, b) < 1e-9);
+    REQUIRE(Distance(a, b) < 1e-9);
   }
   for (int i = 0; i < n; ++i) {
     const Point2 &l = P[(i + n - 1) % n], &c = P[i], &r = P[(i + 1) % n];
     Point2 mask{(l.x + 4 * c.x + r.x) / 6, (l.y + 4 * c.y + r.y) / 6};
-    REQUIRE(Dist(sdvi::EvaluateClosedBSpline(P, i), mask) < 1e-9);
+    REQUIRE(Distance(sdvi::EvaluateClosedBSpline(P, i), mask) < 1e-9);
   }
 }
 
@@ -103,8 +102,8 @@ TEST_CASE("open fit of a wavy chain stays under the error threshold", "[bspline]
   sdvi::BSplineFit fit = sdvi::FitOpenBSpline(samples, o);
   REQUIRE(fit.polygon.size() >= 4);
   REQUIRE(fit.polygon.size() < samples.size() / 2);
-  REQUIRE(Dist(fit.polygon.front(), samples.front()) < 1e-9);
-  REQUIRE(Dist(fit.polygon.back(), samples.back()) < 1e-9);
+  REQUIRE(Distance(fit.polygon.front(), samples.front()) < 1e-9);
+  REQUIRE(Distance(fit.polygon.back(), samples.back()) < 1e-9);
   REQUIRE(fit.max_error <= 0.5);
   REQUIRE(MaxDistanceToSpline(samples, fit.polygon, false) <= 0.5 + 1e-3);
 }
@@ -140,13 +139,13 @@ TEST_CASE("a chain with corners keeps them as interpolated kinks", "[bspline]") 
   REQUIRE(c.closed);
   REQUIRE(c.corners.size() == 4);
   const Point2 expected[4] = {{10, 10}, {50, 10}, {50, 50}, {10, 50}};
-  for (int k = 0; k < 4; ++k) REQUIRE(Dist(c.points[c.corners[k]], expected[k]) < 1e-6);
+  for (int k = 0; k < 4; ++k) REQUIRE(Distance(c.points[c.corners[k]], expected[k]) < 1e-6);
   REQUIRE(err < 0.1);
   // The drawn curve passes through the corners.
   std::vector<Point2> drawn = sdvi::SampleFeatureCurve(c, 8);
   for (const Point2& e : expected) {
     double best = 1e9;
-    for (const Point2& d : drawn) best = std::min(best, Dist(d, e));
+    for (const Point2& d : drawn) best = std::min(best, Distance(d, e));
     REQUIRE(best < 1e-6);
   }
 }

@@ -9,6 +9,7 @@
 
 namespace {
 
+using sdvi::Distance;
 using sdvi::FeatureCurve;
 using sdvi::Point2;
 
@@ -23,8 +24,6 @@ sdvi::Raster ToRaster(const cv::Mat& m) {
       }
   return r;
 }
-
-double Dist(Point2 a, Point2 b) { return std::hypot(a.x - b.x, a.y - b.y); }
 
 const FeatureCurve* Longest(const std::vector<FeatureCurve>& curves, bool boundary = false) {
   const FeatureCurve* best = nullptr;
@@ -47,7 +46,7 @@ TEST_CASE("a disc gives one closed smooth feature on its rim", "[features]") {
   REQUIRE(c->sharpness > 0.5f);
   // The spline runs along the rim (radius 60 around the centre of pixel (100, 100)).
   for (const Point2& p : sdvi::SampleFeatureCurve(*c, 4))
-    REQUIRE(std::fabs(Dist(p, {100.5, 100.5}) - 60) < 1.5);
+    REQUIRE(std::fabs(Distance(p, {100.5, 100.5}) - 60) < 1.5);
 }
 
 TEST_CASE("a square gives a closed feature with corners at its corners", "[features]") {
@@ -63,7 +62,7 @@ TEST_CASE("a square gives a closed feature with corners at its corners", "[featu
   const Point2 expected[4] = {{40, 50}, {120, 50}, {120, 110}, {40, 110}};
   for (const Point2& e : expected) {
     double best = 1e9;
-    for (uint32_t k : c->corners) best = std::min(best, Dist(c->points[k], e));
+    for (uint32_t k : c->corners) best = std::min(best, Distance(c->points[k], e));
     REQUIRE(best < 3.0);
   }
 }
@@ -82,7 +81,7 @@ TEST_CASE("a blurred step gets lower sharpness than a crisp one", "[features]") 
   REQUIRE(curves.ok());
   float crisp_s = -1, blurred_s = -1;
   for (const FeatureCurve& c : *curves) {
-    double len = Dist(c.points.front(), c.points.back());
+    double len = Distance(c.points.front(), c.points.back());
     if (len < 100) continue;  // the two long vertical steps only
     double x = c.points[c.points.size() / 2].x;
     if (std::fabs(x - 50) < 3) crisp_s = c.sharpness;
@@ -157,7 +156,7 @@ TEST_CASE("object mode: alpha gives boundary curves for the outline and the hole
     REQUIRE(c.closed);
     double mean = 0;
     std::vector<Point2> s = sdvi::SampleFeatureCurve(c, 4);
-    for (const Point2& p : s) mean += Dist(p, {100.5, 100.5});
+    for (const Point2& p : s) mean += Distance(p, {100.5, 100.5});
     radii.push_back(mean / s.size());
   }
   REQUIRE(radii.size() == 2);

@@ -14,6 +14,7 @@
 namespace sdvi {
 namespace {
 
+using test::BitEqual;
 using test::FixCrc;
 using test::Grid;
 using test::Poke;
@@ -62,10 +63,6 @@ std::vector<uint8_t> ReadData(const std::string& name) {
   auto bytes = ReadFileBytes(std::string(SDVI_TEST_DATA_DIR) + "/" + name);
   REQUIRE(bytes.ok());
   return *bytes;
-}
-
-bool BitEqual(const std::vector<Vertex>& a, const std::vector<Vertex>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vertex)) == 0;
 }
 
 TEST_CASE("raw round trip keeps every vertex bit, tag, corner, polyline, pair and metadata") {

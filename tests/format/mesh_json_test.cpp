@@ -13,6 +13,8 @@
 namespace sdvi {
 namespace {
 
+using test::BitEqual;
+
 // A mesh with open and closed feature polylines, interior corners, a pair, and colours
 // drawn from all bit patterns of the colour range ValidateImage allows (denormals, -0,
 // the range's ends and tiny values included).
@@ -52,10 +54,6 @@ Image AwkwardMesh() {
   image.pairs = {{0, 1, 0.3f}};
   image.metadata = {{"note", "quotes \" and \\ and unicode \xc3\xa9"}, {"empty", ""}};
   return image;
-}
-
-bool BitEqual(const std::vector<Vertex>& a, const std::vector<Vertex>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vertex)) == 0;
 }
 
 StatusCode ParseCode(const std::string& text) {

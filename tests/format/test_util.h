@@ -12,6 +12,11 @@
 
 namespace sdvi::test {
 
+// True when a and b hold the same vertices bit for bit.
+inline bool BitEqual(const std::vector<Vertex>& a, const std::vector<Vertex>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vertex)) == 0;
+}
+
 // A grid of (n+1) x (n+1) vertices (spacing 4 px), two triangles a cell, every boundary
 // edge tagged crease; colours vary with position.
 inline Image Grid(uint32_t n) {

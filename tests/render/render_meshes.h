@@ -1,17 +1,25 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Synthetic meshes for the render tests: generated in code, deterministic.
+// Synthetic meshes for the render tests (generated in code, deterministic) and their
+// temporary file names.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "sdvi/image.h"
 #include "sdvi/raster.h"
 
 namespace sdvi::test {
+
+// A path in the system's temporary directory for a render test's file called name.
+inline std::string TempPath(const std::string& name) {
+  return (std::filesystem::temp_directory_path() / ("sdvi_render_test_" + name)).string();
+}
 
 // Deterministic pseudo-random numbers in [0, 1).
 class Lcg {

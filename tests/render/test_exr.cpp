@@ -19,9 +19,9 @@
 using namespace sdvi;
 
 namespace {
-std::string TempPath(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("sdvi_render_test_" + name)).string();
-}
+
+using test::TempPath;
+
 // An object image: a coloured 12-gon with anti-aliased edges on a transparent background.
 Raster ObjectRender() {
   std::vector<Vertex> v = {{16, 12, 250, 128, 10}};

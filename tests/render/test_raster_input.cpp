@@ -35,7 +35,7 @@ using namespace sdvi;
 
 namespace {
 
-std::string TempPath(const std::string& name) {
+std::string InputTempPath(const std::string& name) {
   return (std::filesystem::temp_directory_path() / ("sdvi_input_test_" + name)).string();
 }
 
@@ -314,7 +314,7 @@ TEST_CASE("OpenEXR input: linear premultiplied -> straight sRGB 0..255, clipped"
       for (int c = 0; c < 3; ++c) in.at(x, y, c) = float((x * 40 + y * 23 + c * 70) % 256);
       in.at(x, y, 3) = (x + y) % 3 == 0 ? 0.5f : 1.0f;
     }
-  const std::string path = TempPath("linear.exr");
+  const std::string path = InputTempPath("linear.exr");
   REQUIRE(SaveExr(path, in).ok());
   RasterSource source;
   auto out = LoadRaster(path, &source);

@@ -7,14 +7,15 @@
 #include <string>
 
 #include "sdvi/file_util.h"
+#include "render_meshes.h"
 #include "sdvi/raster_io.h"
 
 using namespace sdvi;
 
 namespace {
-std::string TempPath(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("sdvi_render_test_" + name)).string();
-}
+
+using test::TempPath;
+
 Raster Gradient(int w, int h, int channels) {
   Raster r(w, h, channels);
   for (int y = 0; y < h; ++y)

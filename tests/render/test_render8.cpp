@@ -71,7 +71,7 @@ std::vector<uint8_t> QuantiseLikePng(const Raster& r) {
   return out;
 }
 
-RenderOptions AtScale(const Image& img, double scale, int threads) {
+RenderOptions AtScaleOnThreads(const Image& img, double scale, int threads) {
   RenderOptions o;
   o.viewport = Viewport{int(std::lround(img.width * scale)), int(std::lround(img.height * scale)), scale, scale, 0, 0};
   o.threads = threads;
@@ -97,13 +97,13 @@ TEST_CASE("Render8 equals the float render quantised as the PNG writer does", "[
   std::vector<Case> cases;
   const Image jittered = JitteredImage(), annulus = AnnulusImage();
   // 1600 x 1280 at x40: fine triangles of a few pixels, many per row band.
-  for (double scale : {1.0, 3.7, 8.0, 40.0}) cases.push_back({"jittered", jittered, AtScale(jittered, scale, 2)});
-  for (double scale : {1.0, 5.0}) cases.push_back({"annulus", annulus, AtScale(annulus, scale, 2)});
-  Case region{"region", jittered, AtScale(jittered, 6.0, 2)};
+  for (double scale : {1.0, 3.7, 8.0, 40.0}) cases.push_back({"jittered", jittered, AtScaleOnThreads(jittered, scale, 2)});
+  for (double scale : {1.0, 5.0}) cases.push_back({"annulus", annulus, AtScaleOnThreads(annulus, scale, 2)});
+  Case region{"region", jittered, AtScaleOnThreads(jittered, 6.0, 2)};
   region.options.viewport.width = 101, region.options.viewport.height = 77;
   region.options.viewport.origin_x = 13.2, region.options.viewport.origin_y = 7.9;
   cases.push_back(region);
-  Case fixed_level{"level 4", annulus, AtScale(annulus, 2.0, 3)};
+  Case fixed_level{"level 4", annulus, AtScaleOnThreads(annulus, 2.0, 3)};
   fixed_level.options.levels = 4;
   cases.push_back(fixed_level);
   for (const Case& c : cases) {
@@ -121,7 +121,7 @@ TEST_CASE("Render8 equals the float render quantised as the PNG writer does", "[
 
 TEST_CASE("Render8 gives the same bytes for 1 and N threads", "[render][render8]") {
   const Image img = JitteredImage();
-  RenderOptions o = AtScale(img, 40.0, 1);  // 1600 x 1280
+  RenderOptions o = AtScaleOnThreads(img, 40.0, 1);  // 1600 x 1280
   auto one = Render8(img, o);
   REQUIRE(one.ok());
   for (int threads : {2, 3, 7, 16}) {
@@ -135,7 +135,7 @@ TEST_CASE("Render8 gives the same bytes for 1 and N threads", "[render][render8]
 
 TEST_CASE("RenderFineMesh8Into a prepared raster writes every byte RenderFineMesh8 does", "[render][render8]") {
   const Image img = AnnulusImage();  // pixels outside the domain: alpha 0 must be written too
-  const RenderOptions o = AtScale(img, 30.0, 2);
+  const RenderOptions o = AtScaleOnThreads(img, 30.0, 2);
   LimitSurfaceOptions lso;
   lso.levels = ChooseRenderLevels(img, o);
   auto fine = RefineImage(img, lso);
@@ -161,7 +161,7 @@ TEST_CASE("Render8 rounds halves away from zero, as the PNG writer does", "[rend
   spec.ys = Steps(0, 8, 2);
   spec.colour = [](double, double) { return std::array<float, 3>{100.5f, 0.5f, 254.5f}; };
   const Image img = GridImage(spec);
-  auto b = Render8(img, AtScale(img, 2.0, 0));
+  auto b = Render8(img, AtScaleOnThreads(img, 2.0, 0));
   REQUIRE(b.ok());
   size_t off = 0;
   for (size_t p = 0; p < b->data.size(); p += 4)
@@ -171,7 +171,7 @@ TEST_CASE("Render8 rounds halves away from zero, as the PNG writer does", "[rend
 
 TEST_CASE("The 8-bit render's PNG is the float render's PNG, byte for byte", "[render][render8]") {
   const Image img = AnnulusImage();  // alpha: edge coverage, the hole
-  const RenderOptions o = AtScale(img, 4.0, 2);
+  const RenderOptions o = AtScaleOnThreads(img, 4.0, 2);
   auto f = Render(img, o);
   auto b = Render8(img, o);
   REQUIRE(f.ok());
@@ -183,8 +183,8 @@ TEST_CASE("The 8-bit render's PNG is the float render's PNG, byte for byte", "[r
   CHECK(*from_float == *from_bytes);
   // And after dropping the channels an output does not need (here: none; RGB of a full image).
   const Image grid = JitteredImage();
-  auto gf = Render(grid, AtScale(grid, 2.0, 2));
-  auto gb = Render8(grid, AtScale(grid, 2.0, 2));
+  auto gf = Render(grid, AtScaleOnThreads(grid, 2.0, 2));
+  auto gb = Render8(grid, AtScaleOnThreads(grid, 2.0, 2));
   REQUIRE(gf.ok());
   REQUIRE(gb.ok());
   const Raster8 rgb = WithNeededChannels(*gb);
@@ -194,11 +194,11 @@ TEST_CASE("The 8-bit render's PNG is the float render's PNG, byte for byte", "[r
 
 TEST_CASE("Render8 reports bad input with Render's codes", "[render][render8][errors]") {
   const Image img = JitteredImage();
-  RenderOptions o = AtScale(img, 1.0, 0);
+  RenderOptions o = AtScaleOnThreads(img, 1.0, 0);
   o.viewport.width = 0;
   CHECK(Render8(img, o).status().code() == StatusCode::kInvalidArgument);
-  CHECK(Render8(Image(), AtScale(img, 1.0, 0)).status().code() == StatusCode::kEmptyInput);
-  RenderOptions away = AtScale(img, 1.0, 0);
+  CHECK(Render8(Image(), AtScaleOnThreads(img, 1.0, 0)).status().code() == StatusCode::kEmptyInput);
+  RenderOptions away = AtScaleOnThreads(img, 1.0, 0);
   away.viewport.origin_x = 1000;
   auto empty = Render8(img, away);
   REQUIRE(empty.ok());

@@ -231,11 +231,6 @@ void CollectIds(xmlNodePtr node, std::set<std::string>* ids) {
   }
 }
 
-cairo_status_t AppendScript(void* closure, const unsigned char* data, unsigned int length) {
-  static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
-  return CAIRO_STATUS_SUCCESS;
-}
-
 }  // namespace
 
 StatusOr<SvgCurvesResult> ImportSvgCurves(const SvgDocument& document, const SvgCurvesOptions& options,

@@ -7,6 +7,7 @@
 #include <cairo.h>
 
 #include <memory>
+#include <string>
 
 #include "svg_internal.h"
 
@@ -24,5 +25,11 @@ StatusOr<RsvgHandlePtr> OpenRsvg(const SvgDocument& document, SvgError* error, b
 // Renders document (traced: document.traced when there is one) into cr at the viewport (0, 0, width, height).
 Status RenderWithRsvg(const SvgDocument& document, cairo_t* cr, int width, int height, SvgError* error,
                       bool traced = false);
+
+// cairo's write callback for a script surface: appends the bytes to the std::string closure.
+inline cairo_status_t AppendScript(void* closure, const unsigned char* data, unsigned int length) {
+  static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
+  return CAIRO_STATUS_SUCCESS;
+}
 
 }  // namespace sdvi

@@ -57,11 +57,6 @@ constexpr double kMaxTilePoints = 1e6;
 constexpr double kMaxTileLength = 5e5;
 constexpr double kMinTile = 2.0;
 
-cairo_status_t AppendScript(void* closure, const unsigned char* data, unsigned int length) {
-  static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
-  return CAIRO_STATUS_SUCCESS;
-}
-
 // One cubic segment: start, two controls, end.
 using Segment = std::array<Point2, 4>;
 

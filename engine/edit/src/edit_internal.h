@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "sdvi/edit.h"
@@ -10,6 +11,9 @@
 #include "sdvi/status.h"
 
 namespace sdvi::edit_internal {
+
+// An operation's invalid argument, in its own words.
+inline Status Bad(const std::string& what) { return Status(StatusCode::kInvalidArgument, what); }
 
 // Edges that lie in exactly one triangle, sorted.
 std::vector<Edge> BoundaryEdges(const Image& image);

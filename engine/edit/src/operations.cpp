@@ -12,7 +12,7 @@
 namespace sdvi {
 namespace {
 
-Status Bad(const std::string& what) { return Status(StatusCode::kInvalidArgument, what); }
+using edit_internal::Bad;
 
 bool Finite(std::initializer_list<double> values) {
   for (double v : values)

@@ -4,12 +4,13 @@
 #include <cmath>
 #include <string>
 
+#include "edit_internal.h"
 #include "sdvi/edit.h"
 
 namespace sdvi {
 namespace {
 
-Status Bad(const std::string& what) { return Status(StatusCode::kInvalidArgument, what); }
+using edit_internal::Bad;
 
 // Even-odd rule, a horizontal ray to the right.
 bool InsidePolygon(const std::vector<Point2>& poly, double x, double y) {

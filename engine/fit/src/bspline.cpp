@@ -70,13 +70,11 @@ Point2 Combine(const std::vector<Point2>& p, const Basis4& b) {
   return r;
 }
 
-double Dist(Point2 a, Point2 b) { return std::hypot(a.x - b.x, a.y - b.y); }
-
 // Cumulative chord length of samples (closed: the closing segment is included in total).
 std::vector<double> ChordLengths(const std::vector<Point2>& s, bool closed, double* total) {
   std::vector<double> c(s.size(), 0.0);
-  for (size_t i = 1; i < s.size(); ++i) c[i] = c[i - 1] + Dist(s[i - 1], s[i]);
-  *total = c.back() + (closed ? Dist(s.back(), s.front()) : 0.0);
+  for (size_t i = 1; i < s.size(); ++i) c[i] = c[i - 1] + Distance(s[i - 1], s[i]);
+  *total = c.back() + (closed ? Distance(s.back(), s.front()) : 0.0);
   return c;
 }
 
@@ -159,7 +157,7 @@ double CorrectParameters(const std::vector<Point2>& q, std::vector<double>& t,
       t[j] += step;
       if (!closed) t[j] = std::clamp(t[j], 0.0, double(n));
     }
-    max_error = std::max(max_error, Dist(q[j], Eval(poly, closed, t[j])));
+    max_error = std::max(max_error, Distance(q[j], Eval(poly, closed, t[j])));
   }
   return max_error;
 }
@@ -179,7 +177,7 @@ double PolygonOffset(const std::vector<Point2>& polygon, bool closed) {
       if (!closed && (s < 0 || s >= spans)) continue;
       for (int k = 0; k <= kPerSpan; ++k) {
         const double t = s + double(k) / kPerSpan;
-        nearest = std::min(nearest, Dist(polygon[i], Eval(polygon, closed, t)));
+        nearest = std::min(nearest, Distance(polygon[i], Eval(polygon, closed, t)));
       }
     }
     worst = std::max(worst, nearest);

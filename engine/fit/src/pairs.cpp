@@ -14,8 +14,6 @@
 namespace sdvi {
 namespace {
 
-double Dist(Point2 a, Point2 b) { return std::hypot(a.x - b.x, a.y - b.y); }
-
 double PointSegmentDistance(Point2 p, Point2 a, Point2 b) {
   double vx = b.x - a.x, vy = b.y - a.y;
   double l2 = vx * vx + vy * vy;
@@ -104,14 +102,14 @@ PlacedPolyline Prepare(const FeatureCurve& c, double max_len) {
   std::vector<Point2> pts;
   std::vector<bool> corner;
   for (size_t i = 0; i < n; ++i) {
-    if (!pts.empty() && Dist(pts.back(), c.points[i]) < 1e-3) {
+    if (!pts.empty() && Distance(pts.back(), c.points[i]) < 1e-3) {
       corner.back() = corner.back() || is_corner[i];
       continue;
     }
     pts.push_back(c.points[i]);
     corner.push_back(is_corner[i]);
   }
-  if (out.closed && pts.size() > 1 && Dist(pts.back(), pts.front()) < 1e-3) {
+  if (out.closed && pts.size() > 1 && Distance(pts.back(), pts.front()) < 1e-3) {
     corner.front() = corner.front() || corner.back();
     pts.pop_back();
     corner.pop_back();
@@ -123,7 +121,7 @@ PlacedPolyline Prepare(const FeatureCurve& c, double max_len) {
     out.points.push_back(pts[i]);
     if (i >= segs) continue;
     Point2 a = pts[i], b = pts[(i + 1) % m];
-    int pieces = int(std::ceil(Dist(a, b) / max_len));
+    int pieces = int(std::ceil(Distance(a, b) / max_len));
     for (int k = 1; k < pieces; ++k) {
       double t = double(k) / pieces;
       out.points.push_back({a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)});
@@ -146,13 +144,13 @@ bool SplitSegments(PlacedPolyline& l, std::vector<bool> split, double max_len, s
   std::vector<bool> corner(m, false);
   for (uint32_t c : l.corners) corner[c] = true;
   auto off_line = [&](Point2 p, Point2 a, Point2 b) {
-    const double len = Dist(a, b);
+    const double len = Distance(a, b);
     return std::fabs((b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x)) / len > 0.01;
   };
   bool any = false;
   for (size_t i = 0; i < segs; ++i) {
     const Point2 a = l.points[i], b = l.points[(i + 1) % m];
-    if (!split[i] || !(Dist(a, b) > max_len)) {
+    if (!split[i] || !(Distance(a, b) > max_len)) {
       split[i] = false;
       continue;
     }
@@ -174,7 +172,7 @@ bool SplitSegments(PlacedPolyline& l, std::vector<bool> split, double max_len, s
     inserted->push_back(false);
     if (i >= segs || !split[i]) continue;
     const Point2 a = l.points[i], b = l.points[(i + 1) % m];
-    const int pieces = int(std::ceil(Dist(a, b) / max_len));
+    const int pieces = int(std::ceil(Distance(a, b) / max_len));
     for (int k = 1; k < pieces; ++k) {
       const double t = double(k) / pieces;
       out.points.push_back({a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)});
@@ -369,7 +367,7 @@ std::optional<Junction> JunctionAt(const PlacedPolyline& l, int line, int segmen
     const int wi = (segment + (near_b ? 1 : 0)) % m, vi = (placed_segment + (near_d ? 1 : 0)) % pm;
     const Point2 w = l.points[size_t(wi)], v = pl.points[size_t(vi)];
     Point2 lb, la, pb, pa;
-    if (Dist(w, v) >= kJunctionGap || !neighbours(pl, vi, &pb, &pa)) return std::nullopt;
+    if (Distance(w, v) >= kJunctionGap || !neighbours(pl, vi, &pb, &pa)) return std::nullopt;
     if (neighbours(l, wi, &lb, &la)) {
       if (!apart(pb, pa, lb, la) || !apart(lb, la, pb, pa)) return std::nullopt;
       sin_angle = std::min({sin_between(lb, w, pb, v), sin_between(lb, w, v, pa), sin_between(w, la, pb, v),
@@ -387,12 +385,12 @@ std::optional<Junction> JunctionAt(const PlacedPolyline& l, int line, int segmen
     return std::nullopt;
   }
   if (!(sin_angle >= kJunctionMinSin)) return std::nullopt;
-  if (j.candidate_vertex < 0 && (Dist(j.at, a) < kJunctionGap || Dist(j.at, b) < kJunctionGap)) return std::nullopt;
-  if (j.vertex < 0 && (Dist(j.at, c) < kJunctionGap || Dist(j.at, d) < kJunctionGap)) return std::nullopt;
+  if (j.candidate_vertex < 0 && (Distance(j.at, a) < kJunctionGap || Distance(j.at, b) < kJunctionGap)) return std::nullopt;
+  if (j.vertex < 0 && (Distance(j.at, c) < kJunctionGap || Distance(j.at, d) < kJunctionGap)) return std::nullopt;
   for (const Insertion& k : (*context.pending)[size_t(polyline)])
-    if (Dist(j.at, k.at) < kJunctionGap) return std::nullopt;
+    if (Distance(j.at, k.at) < kJunctionGap) return std::nullopt;
   for (const Junction& k : found)
-    if ((k.line == line || k.polyline == polyline) && Dist(j.at, k.at) < kJunctionGap) return std::nullopt;
+    if ((k.line == line || k.polyline == polyline) && Distance(j.at, k.at) < kJunctionGap) return std::nullopt;
   j.radius = 1.5 * clearance / sin_angle;
   return j;
 }
@@ -461,7 +459,7 @@ std::vector<bool> BadSegments(const std::vector<const PlacedPolyline*>& lines, c
     return std::pair<Point2, Point2>{p[i], p[(i + 1) % m]};
   };
   double mean_length = 0;
-  for (int id = 0; id < total; ++id) mean_length += Dist(segment(id).first, segment(id).second);
+  for (int id = 0; id < total; ++id) mean_length += Distance(segment(id).first, segment(id).second);
   const double cell = std::max({1.0, mean_length / std::max(1, total), 4 * self_clearance});
   auto for_cells = [&](int id, auto&& f) {
     const auto [a, b] = segment(id);
@@ -477,7 +475,7 @@ std::vector<bool> BadSegments(const std::vector<const PlacedPolyline*>& lines, c
   for (size_t l = 0; l < lines.size(); ++l) {
     for (int i = 0; i < segs; ++i) {
       const auto [a, b] = segment(int(l) * segs + i);
-      if (Dist(a, b) >= 0.01) continue;
+      if (Distance(a, b) >= 0.01) continue;
       for (int k = i - 1; k <= i + 1; ++k) {
         if (first.closed) bad[size_t((k + segs) % segs)] = true;
         else if (k >= 0 && k < segs) bad[size_t(k)] = true;
@@ -489,7 +487,7 @@ std::vector<bool> BadSegments(const std::vector<const PlacedPolyline*>& lines, c
   for (size_t l = 0; l < lines.size(); ++l) {
     for (int i = 0; i < segs; ++i) {
       const auto [a, b] = segment(int(l) * segs + i);
-      cumulative[l][size_t(i) + 1] = cumulative[l][size_t(i)] + Dist(a, b);
+      cumulative[l][size_t(i) + 1] = cumulative[l][size_t(i)] + Distance(a, b);
     }
   }
   auto ArcBetween = [&](int l, int i, int j) {
@@ -666,7 +664,7 @@ double PolylineArea(const PlacedPolyline& l) {
 
 double Length(const FeatureCurve& c) {
   double len = 0;
-  for (size_t i = 1; i < c.points.size(); ++i) len += Dist(c.points[i - 1], c.points[i]);
+  for (size_t i = 1; i < c.points.size(); ++i) len += Distance(c.points[i - 1], c.points[i]);
   return len;
 }
 
@@ -732,7 +730,7 @@ void DropSpikes(PlacedPolyline* centre, const std::vector<double>& offsets, std:
       for (size_t i = centre->closed ? 0 : 1; i < (centre->closed ? m : m - 1) && i < tip; ++i) {
         const Point2 a = line[(i + m - 1) % m], b = line[i], c = line[(i + 1) % m];
         const bool back = (b.x - a.x) * (c.x - b.x) + (b.y - a.y) * (c.y - b.y) < 0;
-        if (back && std::abs(Cross(a, b, c)) < 1e-3 * std::max(Dist(a, b), Dist(b, c))) tip = i;
+        if (back && std::abs(Cross(a, b, c)) < 1e-3 * std::max(Distance(a, b), Distance(b, c))) tip = i;
       }
     }
     if (tip == m) break;
@@ -826,7 +824,7 @@ StatusOr<PlacedFeatures> PlaceFeatures(int width, int height, const std::vector<
     const Point2 corner[4] = {{0, 0}, {double(width), 0}, {double(width), double(height)}, {0, double(height)}};
     for (int s = 0; s < 4; ++s) {
       Point2 a = corner[s], b = corner[(s + 1) % 4];
-      int pieces = std::max(1, int(std::ceil(Dist(a, b) / max_len)));
+      int pieces = std::max(1, int(std::ceil(Distance(a, b) / max_len)));
       rect.corners.push_back(uint32_t(rect.points.size()));
       auto at = [&](int k) {
         const double t = double(k) / pieces;

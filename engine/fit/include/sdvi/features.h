@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -16,6 +17,9 @@ namespace sdvi {
 struct Point2 {
   double x = 0, y = 0;
 };
+
+// Euclidean distance between two points.
+inline double Distance(Point2 a, Point2 b) { return std::hypot(a.x - b.x, a.y - b.y); }
 
 // One curvilinear feature after B-spline fitting: its deBoor points (the control polygon
 // that becomes a feature polyline of the mesh), in source pixels.
