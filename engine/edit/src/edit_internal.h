@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// What the edit phases share: edge facts of a control mesh, the deformation.
+// What the edit phases share: the invalid-argument status, edge facts of a control mesh, the
+// deformation.
 #pragma once
 
 #include <cstdint>
