@@ -14,9 +14,12 @@
 
 #include <draco/compression/decode.h>
 #include <draco/compression/encode.h>
+#include <draco/compression/point_cloud/point_cloud_decoder.h>
+#include <draco/core/varint_decoding.h>
 #include <draco/compression/expert_encode.h>
 #include <draco/mesh/mesh.h>
 #include <draco/metadata/geometry_metadata.h>
+#include <draco/metadata/metadata_decoder.h>
 
 #include "color_stream.h"
 #include "neighbour_mean.h"
@@ -208,6 +211,42 @@ bool ReadAttribute(const draco::PointAttribute* attribute, uint32_t point, T* ou
   const draco::AttributeValueIndex index = attribute->mapped_index(draco::PointIndex(point));
   if (index.value() >= attribute->size()) return false;
   return attribute->ConvertValue<T>(index, out);
+}
+
+// The face count that the Draco mesh's connectivity header declares, checked against the
+// payload header's triangle count before Draco decodes the mesh: Draco reserves memory for
+// the faces it is told of, whatever the bytes after them hold (a 266-byte payload found by
+// fuzzing declared faces for 2.9 GB). Read with Draco's own header, metadata and varint
+// decoders; the connectivity header is, for bitstream 2.2, edgebreaker: the traversal type
+// (one byte), the encoded vertices, the faces; sequential: the faces, the points.
+Status CheckDracoFaceCount(std::span<const uint8_t> bytes, uint32_t triangles, const std::string& what) {
+  draco::DecoderBuffer buffer;
+  buffer.Init(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  draco::DracoHeader header;
+  const draco::Status read = draco::PointCloudDecoder::DecodeHeader(&buffer, &header);
+  if (!read.ok()) return Status(StatusCode::kDecodeFailed, what + ": " + read.error_msg_string());
+  if (header.version_major != 2 || header.version_minor != 2)
+    return Status(StatusCode::kDecodeFailed, what + " is Draco bitstream " + std::to_string(header.version_major) +
+                                                 "." + std::to_string(header.version_minor) + "; sdvi reads 2.2");
+  if (header.flags & METADATA_FLAG_MASK) {
+    draco::GeometryMetadata metadata;
+    if (!draco::MetadataDecoder().DecodeGeometryMetadata(&buffer, &metadata))
+      return Status(StatusCode::kDecodeFailed, what + ": damaged Draco metadata");
+  }
+  uint32_t faces = 0, count = 0;
+  uint8_t traversal = 0;
+  bool ok = false;
+  if (header.encoder_method == draco::MESH_EDGEBREAKER_ENCODING)
+    ok = buffer.Decode(&traversal) && draco::DecodeVarint(&count, &buffer) && draco::DecodeVarint(&faces, &buffer);
+  else if (header.encoder_method == draco::MESH_SEQUENTIAL_ENCODING)
+    ok = draco::DecodeVarint(&faces, &buffer);
+  else
+    return Status(StatusCode::kDecodeFailed, what + " has unknown Draco method " + std::to_string(header.encoder_method));
+  if (!ok) return Status(StatusCode::kDecodeFailed, what + " ends inside its connectivity header");
+  if (faces != triangles)
+    return Status(StatusCode::kCorrupt, what + " declares " + std::to_string(faces) + " faces, the payload header " +
+                                            std::to_string(triangles) + " triangles");
+  return Status::Ok();
 }
 
 // positions_outside: POSITION is (0, 0) at every point (payload 1.4); colors_outside too: the
@@ -1232,6 +1271,8 @@ Status DecodeDracoPayload(std::span<const uint8_t> payload, const std::string& s
   Image out;
   try {
     const bool stream_colors = (h.flags2 & kFlag2Colors) != 0;
+    SDVI_RETURN_IF_ERROR(
+        CheckDracoFaceCount(payload.subspan(kHeaderSize, h.draco_size), h.triangle_count, source_name + ": Draco mesh"));
     SDVI_ASSIGN_OR_RETURN(DecodedMesh mesh,
                           DecodeDracoMesh(payload.subspan(kHeaderSize, h.draco_size), source_name,
                                           (h.flags & kFlagDecorrelated) && !stream_colors,

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numeric>
 #include <random>
+#include <string>
 
 #include "sdvi/codec.h"
 #include "synthetic_mesh.h"
@@ -223,6 +224,39 @@ TEST_CASE("damaged Draco bytes behind a valid checksum give errors or data, neve
     }
   }
   CHECK(failures > 0);
+}
+
+TEST_CASE("a Draco face count beyond the payload header's is refused before Draco allocates for it",
+          "[codec][corrupt]") {
+  // Found by fuzzing: Draco reserves memory for the faces its connectivity header declares
+  // (a 266-byte payload asked for 2.9 GB). Here a valid payload's face count (bitstream 2.2,
+  // edgebreaker: after the 11-byte Draco header, the traversal type, the encoded vertices'
+  // varint, the faces' varint) becomes 2^28 - 1.
+  const Image image = sdvi::testing::SyntheticGridImage(50, 50, 6, 6);
+  const Encoded e = MustEncodeIndexed(image);
+  constexpr size_t kDraco = 40;  // the payload header's size (spec/FORMAT.md section 8)
+  REQUIRE(std::string(e.payload.begin() + kDraco, e.payload.begin() + kDraco + 5) == "DRACO");
+  REQUIRE(e.payload[kDraco + 8] == 1);                                     // edgebreaker
+  REQUIRE((e.payload[kDraco + 9] | e.payload[kDraco + 10] << 8) == 0);  // no metadata
+  size_t at = kDraco + 12;
+  while (e.payload[at] & 0x80) ++at;  // the encoded vertices
+  const size_t faces_at = ++at;
+  while (e.payload[at] & 0x80) ++at;
+  const size_t faces_end = at + 1;
+  std::vector<uint8_t> bad(e.payload.begin(), e.payload.begin() + faces_at);
+  for (uint8_t b : {0xff, 0xff, 0xff, 0x7f}) bad.push_back(b);  // 2^28 - 1
+  bad.insert(bad.end(), e.payload.begin() + faces_end, e.payload.end());
+  const uint32_t draco_size = uint32_t(e.payload[28] | e.payload[29] << 8 | e.payload[30] << 16) +
+                              uint32_t(4 - (faces_end - faces_at));
+  for (int i = 0; i < 4; ++i) bad[28 + i] = uint8_t(draco_size >> (8 * i));
+  sdvi::testing::FixPayloadChecksum(&bad);
+  Image out;
+  const sdvi::Status status = sdvi::DecodeDracoPayload(bad, "faces.sdvi", &out);
+  INFO(status.ToString());
+  CHECK(status.code() == StatusCode::kCorrupt);
+  CHECK(status.message() == "faces.sdvi: Draco mesh declares 268435455 faces, the payload header " +
+                                std::to_string(image.triangles.size()) + " triangles");
+  CHECK(out.vertices.empty());
 }
 
 TEST_CASE("header problems have specific codes", "[codec][corrupt]") {
