@@ -12,6 +12,7 @@
 #include "sdvi/file_util.h"
 #include "sdvi/format.h"
 #include "sdvi/mesh_json.h"
+#include "sdvi/tagged_mesh.h"
 #if __has_include("sdvi/codec.h")
 #include "sdvi/codec.h"
 #define SDVI_CLI_HAS_CODEC 1
@@ -45,35 +46,16 @@ StatusOr<Image> LoadAny(const std::string& path) {
   return LoadSdvi(path);
 }
 
-// Vertices that are corners: tagged explicitly, or with crease degree 1 or >= 3 counting
-// the listed crease edges and the mesh boundary (spec/SUBDIVISION.md section 1).
-size_t CountCorners(const Image& image) {
-  // Every triangle's edges, sorted: an edge that occurs once is on the mesh boundary.
-  std::vector<Edge> edges;
-  edges.reserve(3 * image.triangles.size());
-  for (const Triangle& t : image.triangles)
-    for (int e = 0; e < 3; ++e) edges.push_back(Edge::Of(t.v[e], t.v[(e + 1) % 3]));
-  std::sort(edges.begin(), edges.end());
-  std::vector<int> crease_degree(image.vertices.size(), 0);
-  auto count_edge = [&](const Edge& e) {
-    ++crease_degree[e.a];
-    ++crease_degree[e.b];
-  };
-  for (const Edge& e : image.crease_edges) count_edge(e);
-  for (size_t i = 0; i < edges.size();) {
-    size_t j = i + 1;
-    while (j < edges.size() && edges[j] == edges[i]) ++j;
-    if (j - i == 1 && !std::binary_search(image.crease_edges.begin(), image.crease_edges.end(), edges[i]))
-      count_edge(edges[i]);
-    i = j;
-  }
-  size_t corners = 0;
-  for (size_t v = 0; v < crease_degree.size(); ++v) {
-    const bool explicit_corner =
-        std::binary_search(image.corners.begin(), image.corners.end(), static_cast<uint32_t>(v));
-    if (explicit_corner || crease_degree[v] == 1 || crease_degree[v] >= 3) ++corners;
-  }
-  return corners;
+// Vertices that are corners, by the subdivision engine's own rule (spec/SUBDIVISION.md
+// section 1): tagged explicitly, with crease degree 1 or >= 3 counting the listed crease
+// edges and the mesh boundary, or on no triangle. A mesh without triangles has its explicit
+// corners only (the engine refuses it).
+StatusOr<size_t> CountCorners(const Image& image, const std::string& path) {
+  if (image.triangles.empty()) return image.corners.size();
+  auto mesh = TaggedMesh::FromImage(image);
+  if (!mesh.ok()) return Status(mesh.status().code(), path + ": " + mesh.status().message());
+  const std::vector<VertexTag>& tags = mesh->vertex_tags();
+  return size_t(std::count(tags.begin(), tags.end(), VertexTag::kCorner));
 }
 
 // The options of `sdvi convert`.
@@ -117,6 +99,12 @@ int Info(const InfoArgs& args) {
   const bool optional_data = !image.corners.empty() || !image.polylines.empty() ||
                              !image.pairs.empty() || !image.metadata.empty();
   const bool narrow = vertices <= kNarrowProfileMaxVertices;
+  size_t corners = 0;
+  if (raw) {
+    auto counted = CountCorners(image, path);
+    if (!counted.ok()) return ReportError("info", counted.status());
+    corners = *counted;
+  }
 
   nlohmann::ordered_json j;
   j["file"] = path;
@@ -132,7 +120,7 @@ int Info(const InfoArgs& args) {
                              {"0", triangles - file->tagged3 - file->tagged2 - file->tagged1}};
     j["crease_edges"] = image.crease_edges.size();
     j["corners_explicit"] = image.corners.size();
-    j["corners"] = CountCorners(image);
+    j["corners"] = corners;
   }
   j["polylines"] = image.polylines.size();
   j["pairs"] = image.pairs.size();
@@ -197,7 +185,7 @@ int Info(const InfoArgs& args) {
                 static_cast<unsigned long long>(triangles - file->tagged3 - file->tagged2 -
                                                 file->tagged1));
     std::printf("crease edges       %zu\n", image.crease_edges.size());
-    std::printf("corners            %zu (%zu explicit)\n", CountCorners(image),
+    std::printf("corners            %zu (%zu explicit)\n", corners,
                 image.corners.size());
   }
   if (!raw && j.contains("draco")) {

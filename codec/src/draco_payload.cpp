@@ -14,9 +14,9 @@
 
 #include <draco/compression/decode.h>
 #include <draco/compression/encode.h>
+#include <draco/compression/expert_encode.h>
 #include <draco/compression/point_cloud/point_cloud_decoder.h>
 #include <draco/core/varint_decoding.h>
-#include <draco/compression/expert_encode.h>
 #include <draco/mesh/mesh.h>
 #include <draco/metadata/geometry_metadata.h>
 #include <draco/metadata/metadata_decoder.h>
@@ -233,11 +233,13 @@ Status CheckDracoFaceCount(std::span<const uint8_t> bytes, uint32_t triangles, c
     if (!draco::MetadataDecoder().DecodeGeometryMetadata(&buffer, &metadata))
       return Status(StatusCode::kDecodeFailed, what + ": damaged Draco metadata");
   }
-  uint32_t faces = 0, count = 0;
+  // The traversal type and the encoded vertices are read only to reach the faces.
+  uint32_t faces = 0, encoded_vertices = 0;
   uint8_t traversal = 0;
   bool ok = false;
   if (header.encoder_method == draco::MESH_EDGEBREAKER_ENCODING)
-    ok = buffer.Decode(&traversal) && draco::DecodeVarint(&count, &buffer) && draco::DecodeVarint(&faces, &buffer);
+    ok = buffer.Decode(&traversal) && draco::DecodeVarint(&encoded_vertices, &buffer) &&
+         draco::DecodeVarint(&faces, &buffer);
   else if (header.encoder_method == draco::MESH_SEQUENTIAL_ENCODING)
     ok = draco::DecodeVarint(&faces, &buffer);
   else

@@ -75,6 +75,18 @@ cmp -s "$work/stdio.sdvi" "$work/file.sdvi" || fail "vectorize through stdin/std
 "$sdvi" info - --json <"$work/file.sdvi" >"$work/info.json" || fail "info - --json"
 python3 -c "import json,sys; d=json.load(open(sys.argv[1])); assert d['vertices'] > 0" "$work/info.json" ||
   fail "info --json from stdin is not the expected JSON"
+# info counts corners by the subdivision engine's rule: a triangle's three boundary
+# vertices are creases (crease degree 2), a vertex on no triangle is a corner; a file with
+# no triangles has its explicit corners only.
+printf '%s' '{"format":"sdvi-mesh","version":1,"width":4,"height":4,"vertices":[[0,0,0,0,0],[3,0,0,0,0],[0,3,0,0,0],[2,2,1,1,1]],"triangles":[[0,1,2]]}' >"$work/corners.json"
+printf '%s' '{"format":"sdvi-mesh","version":1,"width":4,"height":4,"vertices":[[0,0,0,0,0]],"triangles":[]}' >"$work/no_triangles.json"
+for f in corners:1 no_triangles:0; do
+  name=${f%%:*} want=${f##*:}
+  expect 0 convert "$work/$name.json" "$work/$name.sdvi"
+  expect 0 info "$work/$name.sdvi" --json
+  python3 -c "import json,sys; assert json.load(open(sys.argv[1]))['corners'] == int(sys.argv[2])" "$work/out" "$want" ||
+    fail "info $name.sdvi: corners is not $want"
+done
 "$sdvi" render - -o - --format png --scale 2 <"$work/file.sdvi" >"$work/x2_stdout.png" || fail "render - -o -"
 expect 0 render "$work/file.sdvi" -o "$work/x2.png" --scale 2 --quiet
 cmp -s "$work/x2.png" "$work/x2_stdout.png" || fail "render -o - differs from the file output"
