@@ -48,9 +48,9 @@ CLI::Option* AddOutput(CLI::App* command, std::string& path, const std::string& 
 // cannot be written fails before any work and leaves nothing behind.
 void MarkInput(CLI::App* command, const std::string& path);
 void MarkOutput(CLI::App* command, const std::string& path);
-// The command decodes or encodes raster images (PNG, JPEG, ...), always or, with when_given,
-// only when that option is non-empty: the raster codecs are opened before its memory limit
-// is set (sdvi/raster_io.h, OpenRasterCodecs).
+// The command decodes raster images (PNG, JPEG, ...), always or, with when_given, only when
+// that option is non-empty: the raster decoders are opened before its memory limit is set
+// (sdvi/raster_io.h, OpenRasterCodecs). Writing PNGs needs nothing opened (libpng is linked).
 void UsesRasterCodecs(CLI::App* command, const std::string* when_given = nullptr);
 // Batch mode (README "Many images"): what a directory contributes to a batch and what each
 // job writes.

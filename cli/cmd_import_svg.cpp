@@ -153,7 +153,6 @@ void RegisterImportSvg(CLI::App& app, Outcome& outcome) {
        "sdvi import-svg icons/ -O out/ -j 2   # icons/NAME.svg -> out/NAME.sdvi"});
   AddOutput(c, r->output, "the .sdvi file to write");
   AddInputs(c, r->input, "the SVG file ('-' reads standard input)", {{"svg"}, "sdvi", "", {"--debug-dir", "--report"}});
-  UsesRasterCodecs(c, &r->debug_dir);
   c->add_option("--mode", r->mode,
                 "artwork: the SVG's shapes and colours; curves: paths with sdvi:left-color, sdvi:right-color, "
                 "sdvi:sharpness (spec/CURVES.md), colours diffused between them")

@@ -297,7 +297,7 @@ void RegisterRender(CLI::App& app, Outcome& outcome) {
   a->bits_opt = c->add_option("--bits", a->bits, "PNG bits per channel")->check(CLI::IsMember({8, 16}));
   c->add_flag("--half", a->half, "EXR: 16-bit half floats instead of 32-bit floats");
   MarkInput(c, a->reference);
-  UsesRasterCodecs(c);
+  UsesRasterCodecs(c, &a->reference);  // PNG output needs no codec module; the reference does
   c->add_option("--reference", a->reference, "EXR: add an 'error' channel against this image")->type_name("IMG");
   c->add_option("--threads", a->threads, "worker threads (0: all cores)")->check(CLI::Range(0, 256));
   c->add_option("--overlay", a->overlay,

@@ -190,7 +190,6 @@ void RegisterSample(CLI::App& app, Outcome& outcome) {
       "write the built-in sample image (smooth gradients, sharp and blurred curved edges, corners)",
       {"sdvi sample -o sample.png", "sdvi sample -o wide.png --width 1024 --height 512"});
   AddOutput(c, a->output, "the PNG to write");
-  UsesRasterCodecs(c);
   c->add_option("--width", a->width, "width in pixels")->check(CLI::Range(8, 16384));
   c->add_option("--height", a->height, "height in pixels")->check(CLI::Range(8, 16384));
   SetAction(c, outcome, [a] {

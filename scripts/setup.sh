@@ -9,10 +9,10 @@ PACKAGES=(build-essential cmake ninja-build pkg-config
   libflatbuffers-dev flatbuffers-compiler libdraco-dev libtinygltf-dev libopenexr-dev
   libopencv-dev libcgal-dev libeigen3-dev catch2 nlohmann-json3-dev libcli11-dev)
 # Image input (converters/raster): OpenImageIO (EXIF orientation, GIF, EXR, HDR), Little CMS
-# (ICC -> sRGB); giflib and zlib build the raster-input tests' files. openimageio-tools too:
+# (ICC -> sRGB), libpng (PNG output); giflib and zlib build the raster-input tests' files. openimageio-tools too:
 # libopenimageio-dev's CMake package names its programs (/usr/bin/iconvert, ...) as imported
 # targets and find_package(OpenImageIO) fails without them (only recommended, not required).
-PACKAGES+=(libopenimageio-dev openimageio-tools liblcms2-dev libgif-dev zlib1g-dev)
+PACKAGES+=(libopenimageio-dev openimageio-tools liblcms2-dev libgif-dev zlib1g-dev libpng-dev)
 # The Python binding and its Dask driver (python/): pybind11, numpy, dask.distributed.
 PACKAGES+=(pybind11-dev python3-dev python3-numpy python3-dask python3-distributed)
 # Tools used by tests and benchmarks: exrheader (openexr), cjpeg (libjpeg-turbo-progs),

@@ -15,10 +15,12 @@ test -f "$prefix/lib/cmake/sdvi/sdviConfig.cmake" || { echo "FAIL: no sdviConfig
 cmake -S "$src/examples" -B "$work/consumer" -G Ninja -DCMAKE_BUILD_TYPE=Release \
   -DCMAKE_PREFIX_PATH="$prefix" >"$work/configure.log" 2>&1 || { cat "$work/configure.log"; exit 1; }
 cmake --build "$work/consumer" >"$work/build.log" 2>&1 || { cat "$work/build.log"; exit 1; }
-# The installed sdvi writes its PNG through the installed raster module (bin/../lib/sdvi).
-LD_DEBUG=files "$prefix/bin/sdvi" sample -o "$work/sample.png" --width 96 --height 64 2>"$work/sample_ld.log"
+# The installed sdvi writes its PNG with libpng and decodes it through the installed raster
+# module (bin/../lib/sdvi).
+"$prefix/bin/sdvi" sample -o "$work/sample.png" --width 96 --height 64
+LD_DEBUG=files "$prefix/bin/sdvi" compare "$work/sample.png" "$work/sample.png" >/dev/null 2>"$work/compare_ld.log"
 if [ "$raster_module" = ON ]; then
-  grep -F "file=$prefix/bin/" "$work/sample_ld.log" | grep -q "/sdvi/libsdvi_raster_oiio.so" ||
+  grep -F "file=$prefix/bin/" "$work/compare_ld.log" | grep -q "/sdvi/libsdvi_raster_oiio.so" ||
     { echo "FAIL: the installed sdvi did not load the installed libsdvi_raster_oiio.so"; exit 1; }
 fi
 "$work/consumer/quickstart" "$work/sample.png" "$work/sample.sdvi" "$work/x2.png" | tee "$work/run.log"

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
-# ctest render.raster_module: OpenImageIO is loaded only by commands that decode or write a
-# raster (spec/RASTER_INPUT.md, "Loading"). The sdvi executable does not link it; `info`
-# never loads it; `render` to PNG loads it from the module and writes the file.
+# ctest render.raster_module: OpenImageIO is loaded only by commands that decode a raster
+# (spec/RASTER_INPUT.md, "Loading"). The sdvi executable does not link it; `info` never loads
+# it; `render` and `sample` write their PNGs with libpng without loading it; `compare` of a
+# PNG loads it from the module.
 #   usage: raster_module_test.sh SDVI DATA_DIR WORK_DIR
 set -uo pipefail
 SDVI=$1 DATA=$2 WORK=$3
@@ -13,9 +14,15 @@ LD_DEBUG=files "$SDVI" info "$DATA/golden_v1_0.sdvi" >/dev/null 2>"$WORK/info.lo
 if grep -q "libOpenImageIO" "$WORK/info.log"; then fail "sdvi info loaded OpenImageIO"; fi
 LD_DEBUG=files "$SDVI" render "$DATA/golden_v1_0.sdvi" -o "$WORK/g.png" >/dev/null 2>"$WORK/render.log" ||
   fail "render failed: $(grep -v '^ *[0-9]*:' "$WORK/render.log" | head -3)"
-grep -q "libsdvi_raster_oiio.so" "$WORK/render.log" || fail "render did not load libsdvi_raster_oiio.so"
-grep -q "libOpenImageIO" "$WORK/render.log" || fail "render did not load OpenImageIO"
+if grep -q "libOpenImageIO" "$WORK/render.log"; then fail "render to PNG loaded OpenImageIO"; fi
 [ -s "$WORK/g.png" ] || fail "no PNG written"
-# The written PNG reads back (decode through the same module).
-"$SDVI" compare "$WORK/g.png" "$WORK/g.png" >/dev/null || fail "compare of the written PNG failed"
+LD_DEBUG=files "$SDVI" sample -o "$WORK/s.png" --width 32 --height 24 >/dev/null 2>"$WORK/sample.log" ||
+  fail "sample failed"
+if grep -q "libOpenImageIO" "$WORK/sample.log"; then fail "sample loaded OpenImageIO"; fi
+# The written PNGs read back, decoded through the module.
+LD_DEBUG=files "$SDVI" compare "$WORK/g.png" "$WORK/g.png" >/dev/null 2>"$WORK/compare.log" ||
+  fail "compare of the written PNG failed"
+grep -q "libsdvi_raster_oiio.so" "$WORK/compare.log" || fail "compare did not load libsdvi_raster_oiio.so"
+grep -q "libOpenImageIO" "$WORK/compare.log" || fail "compare did not load OpenImageIO"
+"$SDVI" compare "$WORK/s.png" "$WORK/s.png" >/dev/null || fail "compare of the written sample failed"
 echo PASS

@@ -253,29 +253,6 @@ StatusOr<Raster> Reorient(const Raster& raster, int orientation, const std::stri
   return out;
 }
 
-// The PNG of samples (8- or 16-bit, interleaved, channels as the raster has them).
-StatusOr<std::vector<uint8_t>> EncodePngSamples(int width, int height, int ch, bool has_alpha, int bits,
-                                                const void* data, int compression_level, const std::string& name) {
-  const OIIO::TypeDesc type = bits == 8 ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::UINT16;
-  OIIO::ImageSpec spec(width, height, ch, type);
-  spec.alpha_channel = has_alpha ? ch - 1 : -1;
-  spec.attribute("oiio:ColorSpace", "sRGB");  // -> sRGB, gAMA and cHRM chunks
-  spec.attribute("oiio:UnassociatedAlpha", 1);  // the samples are straight: write them as they are
-  spec.attribute("png:compressionLevel", compression_level);
-  std::vector<uint8_t> encoded;
-  try {
-    OIIO::Filesystem::IOVecOutput writer(encoded);
-    std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create("png");
-    if (!out) return Status(StatusCode::kEncodeFailed, name + ": no PNG writer: " + OIIO::geterror());
-    out->set_ioproxy(&writer);
-    if (!out->open("out.png", spec) || !out->write_image(type, data) || !out->close())
-      return Status(StatusCode::kEncodeFailed, name + ": PNG encoding failed: " + out->geterror());
-  } catch (const std::exception& e) {
-    return Status(StatusCode::kEncodeFailed, name + ": PNG encoding failed: " + e.what());
-  }
-  return encoded;
-}
-
 StatusOr<OiioDecoded> Decode(const std::vector<uint8_t>& bytes, const std::string& name, uint64_t max_pixels) {
   try {
     // The bytes are read through an IOProxy; with a config, OpenImageIO 2.4 takes the proxy
@@ -324,7 +301,6 @@ StatusOr<Raster> ReorientCaught(const Raster& raster, int orientation, const std
 
 extern "C" const sdvi::raster_internal::OiioModule* sdvi_raster_oiio_module() {
   using namespace sdvi::raster_internal;
-  static const OiioModule kModule = {kOiioModuleAbi, uint32_t(sizeof(OiioDecoded)), Decode, ReorientCaught,
-                                     EncodePngSamples};
+  static const OiioModule kModule = {kOiioModuleAbi, uint32_t(sizeof(OiioDecoded)), Decode, ReorientCaught};
   return &kModule;
 }

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The OpenImageIO side of sdvi_raster_io, built as its own loadable module
-// (libsdvi_raster_oiio.so) and opened on the first raster decode or PNG encode, so that
-// commands which never touch a raster do not load OpenImageIO and the ~260 shared libraries
+// (libsdvi_raster_oiio.so) and opened on the first raster decode, so that
+// commands which never read a raster do not load OpenImageIO and the ~260 shared libraries
 // it needs (spec/RASTER_INPUT.md, "Loading"). Internal: the module and the loader are built
 // from the same tree, and kOiioModuleAbi changes whenever this table does.
 #pragma once
@@ -15,7 +15,7 @@
 
 namespace sdvi::raster_internal {
 
-inline constexpr uint32_t kOiioModuleAbi = 1;
+inline constexpr uint32_t kOiioModuleAbi = 2;
 
 // A decoded image before ICC conversion and orientation (the loader applies both).
 struct OiioDecoded {
@@ -36,9 +36,6 @@ struct OiioModule {
   StatusOr<OiioDecoded> (*decode)(const std::vector<uint8_t>& bytes, const std::string& name, uint64_t max_pixels);
   // raster turned upright for an EXIF/TIFF orientation of 2..8.
   StatusOr<Raster> (*reorient)(const Raster& raster, int orientation, const std::string& name);
-  // A PNG of interleaved 8- or 16-bit samples, tagged sRGB, at the given zlib level.
-  StatusOr<std::vector<uint8_t>> (*encode_png)(int width, int height, int channels, bool has_alpha, int bits,
-                                               const void* samples, int compression_level, const std::string& name);
 };
 
 }  // namespace sdvi::raster_internal

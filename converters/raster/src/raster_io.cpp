@@ -21,6 +21,7 @@
 
 #include "icc_profile.h"
 #include "oiio_module.h"
+#include "png_writer.h"
 #include "sdvi/file_util.h"
 
 namespace sdvi {
@@ -241,10 +242,13 @@ namespace {
 constexpr int kPngCompressionLevel = 1;
 
 // The PNG of samples (8- or 16-bit, interleaved, channels as the raster has them).
-StatusOr<std::vector<uint8_t>> EncodePngSamples(int width, int height, int ch, bool has_alpha, int bits,
-                                                const void* data, const std::string& name) {
-  SDVI_ASSIGN_OR_RETURN(const OiioModule* oiio, Oiio(StatusCode::kEncodeFailed, name));
-  return oiio->encode_png(width, height, ch, has_alpha, bits, data, kPngCompressionLevel, name);
+StatusOr<std::vector<uint8_t>> EncodePngSamples(int width, int height, int ch, int bits, const void* data,
+                                                const std::string& name) {
+  try {
+    return raster_internal::EncodePngWithLibpng(width, height, ch, bits, data, kPngCompressionLevel, name);
+  } catch (const std::bad_alloc&) {
+    return Status(StatusCode::kLimitExceeded, name + ": out of memory while encoding the PNG");
+  }
 }
 
 // Which channels an output needs (see WithNeededChannels): alpha unless every pixel is
@@ -314,13 +318,12 @@ StatusOr<std::vector<uint8_t>> EncodePng(const Raster& raster, int bits, const s
       wide[i] = uint16_t(q);
   }
   const void* data = bits == 8 ? static_cast<const void*>(narrow.data()) : static_cast<const void*>(wide.data());
-  return EncodePngSamples(raster.width, raster.height, ch, raster.has_alpha(), bits, data, name);
+  return EncodePngSamples(raster.width, raster.height, ch, bits, data, name);
 }
 
 StatusOr<std::vector<uint8_t>> EncodePng(const Raster8& raster, const std::string& name) {
   SDVI_RETURN_IF_ERROR(CheckRasterToEncode(raster.width, raster.height, raster.channels, raster.data.size(), name));
-  return EncodePngSamples(raster.width, raster.height, raster.channels, raster.has_alpha(), 8, raster.data.data(),
-                          name);
+  return EncodePngSamples(raster.width, raster.height, raster.channels, 8, raster.data.data(), name);
 }
 
 Status SaveRasterPng(const std::string& path, const Raster& raster, int bits) {

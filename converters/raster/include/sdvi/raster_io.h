@@ -45,7 +45,7 @@ struct RasterSource {
 StatusOr<Raster> LoadRaster(const std::string& path, RasterSource* source = nullptr);
 
 // Opens the raster decoders and encoders now: the OpenImageIO module and the libraries it
-// loads (spec/RASTER_INPUT.md "Loading"), otherwise opened on the first decode or PNG encode.
+// loads (spec/RASTER_INPUT.md "Loading"), otherwise opened on the first decode (PNGs are written with libpng).
 // A program that limits its own address space (`sdvi --max-memory`) calls it before setting
 // the limit: mapping those libraries needs address space of its own, and one of them
 // (log4cplus) hangs in its start-up when a thread it starts is refused. Opens once per
