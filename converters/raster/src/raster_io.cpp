@@ -244,11 +244,7 @@ constexpr int kPngCompressionLevel = 1;
 // The PNG of samples (8- or 16-bit, interleaved, channels as the raster has them).
 StatusOr<std::vector<uint8_t>> EncodePngSamples(int width, int height, int ch, int bits, const void* data,
                                                 const std::string& name) {
-  try {
-    return raster_internal::EncodePngWithLibpng(width, height, ch, bits, data, kPngCompressionLevel, name);
-  } catch (const std::bad_alloc&) {
-    return Status(StatusCode::kLimitExceeded, name + ": out of memory while encoding the PNG");
-  }
+  return raster_internal::EncodePngWithLibpng(width, height, ch, bits, data, kPngCompressionLevel, name);
 }
 
 // Which channels an output needs (see WithNeededChannels): alpha unless every pixel is
