@@ -106,7 +106,12 @@ void SetAction(CLI::App* command, Outcome& outcome, std::function<int()> run) {
       Status ready = CheckOutputs(command);
       const CommandSetup& setup = Setup()[command];
       // Before the limit (OpenRasterCodecs); a failure here is reported by the decode itself.
-      if (ready.ok() && setup.raster_codecs && setup.raster_codecs()) (void)OpenRasterCodecs();
+      if (ready.ok() && setup.raster_codecs && setup.raster_codecs()) {
+        std::vector<std::string> rasters;  // the inputs that may be rasters (not .sdvi files)
+        for (const std::string* in : setup.inputs)
+          if (!in->empty() && FileExtension(*in) != "sdvi") rasters.push_back(*in);
+        (void)OpenRasterCodecs(rasters);
+      }
       if (ready.ok()) ready = LimitMemory(setup.max_memory);
       outcome.exit_code = ready.ok() ? run() : ReportError(command->get_name(), ready);
     } catch (const std::bad_alloc&) {

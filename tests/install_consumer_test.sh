@@ -15,10 +15,11 @@ test -f "$prefix/lib/cmake/sdvi/sdviConfig.cmake" || { echo "FAIL: no sdviConfig
 cmake -S "$src/examples" -B "$work/consumer" -G Ninja -DCMAKE_BUILD_TYPE=Release \
   -DCMAKE_PREFIX_PATH="$prefix" >"$work/configure.log" 2>&1 || { cat "$work/configure.log"; exit 1; }
 cmake --build "$work/consumer" >"$work/build.log" 2>&1 || { cat "$work/build.log"; exit 1; }
-# The installed sdvi writes its PNG with libpng and decodes it through the installed raster
-# module (bin/../lib/sdvi).
+# The installed sdvi reads and writes PNGs with libpng and decodes other rasters (a PPM here)
+# through the installed raster module (bin/../lib/sdvi).
 "$prefix/bin/sdvi" sample -o "$work/sample.png" --width 96 --height 64
-LD_DEBUG=files "$prefix/bin/sdvi" compare "$work/sample.png" "$work/sample.png" >/dev/null 2>"$work/compare_ld.log"
+printf 'P6\n2 2\n255\n' >"$work/p.ppm" && printf '\377\0\0\0\377\0\0\0\377\377\377\377' >>"$work/p.ppm"
+LD_DEBUG=files "$prefix/bin/sdvi" compare "$work/p.ppm" "$work/p.ppm" >/dev/null 2>"$work/compare_ld.log"
 if [ "$raster_module" = ON ]; then
   grep -F "file=$prefix/bin/" "$work/compare_ld.log" | grep -q "/sdvi/libsdvi_raster_oiio.so" ||
     { echo "FAIL: the installed sdvi did not load the installed libsdvi_raster_oiio.so"; exit 1; }

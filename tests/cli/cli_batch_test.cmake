@@ -186,10 +186,14 @@ expect_files(${WORK}/pdf a.pdf b.pdf c.pdf)
 expect_files(${WORK}/svgout a.svg b.svg c.svg)
 expect_files(${WORK}/glb a.glb b.glb)
 
-# A per-job memory limit no job fits in (sdvi itself is resident over 64 MiB): every job is
-# stopped, the report says why, nothing is left in the output directory.
-run_sdvi(1 vectorize ${WORK}/in -O ${WORK}/tight --max-memory-per-job 64M --batch-report ${WORK}/tight.jsonl --quiet)
-expect_report(${WORK}/tight.jsonl a=failed b=failed c=failed)
+# A per-job memory limit the jobs do not fit in (vectorizing 3 megapixels takes well over
+# 64 MiB; a small PNG alone fits, as it loads no raster module): every job is stopped, the
+# report says why, nothing is left in the output directory.
+file(MAKE_DIRECTORY ${WORK}/big)
+run_sdvi(0 sample -o ${WORK}/big/d.png --width 2000 --height 1500)
+run_sdvi(0 sample -o ${WORK}/big/e.png --width 1500 --height 2000)
+run_sdvi(1 vectorize ${WORK}/big -O ${WORK}/tight --max-memory-per-job 64M --batch-report ${WORK}/tight.jsonl --quiet)
+expect_report(${WORK}/tight.jsonl d=failed e=failed)
 file(READ ${WORK}/tight.jsonl tight)
 if(NOT tight MATCHES "over the memory limit of 64 MiB per job")
   message(FATAL_ERROR "the memory limit is not named in the report:\n${tight}")

@@ -357,6 +357,87 @@ TEST_CASE("Radiance HDR input: RGBE decoded, linear -> sRGB, above 1 clipped", "
   CHECK(out->at(1, 0, 0) == 255.0f);
 }
 
+// A PNG of the given IHDR fields whose scanlines (filter byte 0 each, already packed) are
+// raw, with extra chunks (PLTE, tRNS, eXIf) between IHDR and IDAT.
+std::vector<uint8_t> MakePng(uint32_t w, uint32_t h, int depth, int colour_type, int interlace,
+                             const std::vector<uint8_t>& raw, const std::vector<std::vector<uint8_t>>& extra = {}) {
+  std::vector<uint8_t> png = {0x89, 'P', 'N', 'G', 0x0d, 0x0a, 0x1a, 0x0a};
+  std::vector<uint8_t> ihdr;
+  PutBig32(ihdr, w), PutBig32(ihdr, h);
+  ihdr.insert(ihdr.end(), {uint8_t(depth), uint8_t(colour_type), 0, 0, uint8_t(interlace)});
+  auto append = [&](const std::vector<uint8_t>& c) { png.insert(png.end(), c.begin(), c.end()); };
+  append(PngChunk("IHDR", ihdr));
+  for (const auto& c : extra) append(c);
+  uLongf size = compressBound(uLong(raw.size()));
+  std::vector<uint8_t> z(size);
+  REQUIRE(compress(z.data(), &size, raw.data(), uLong(raw.size())) == Z_OK);
+  z.resize(size);
+  append(PngChunk("IDAT", z));
+  append(PngChunk("IEND", {}));
+  return png;
+}
+
+TEST_CASE("PNG input (libpng): palettes, low-bit grey and tRNS expand, Adam7 and eXIf read", "[raster_input]") {
+  // A 2-bit palette image, 3 x 2, indices 0 1 2 / 3 0 1; tRNS gives entries 0 and 1 alpha.
+  const std::vector<uint8_t> plte = {255, 0, 0, 0, 255, 0, 0, 0, 255, 10, 20, 30};
+  const std::vector<uint8_t> raw_palette = {0, 0b00011000, 0, 0b11000100};
+  RasterSource source;
+  auto pal = DecodeRaster(MakePng(3, 2, 2, 3, 0, raw_palette, {PngChunk("PLTE", plte), PngChunk("tRNS", {0, 128})}),
+                          "palette.png", &source);
+  REQUIRE_OK(pal);
+  CHECK(source.format == "png");
+  REQUIRE(pal->channels == 4);
+  const int index[2][3] = {{0, 1, 2}, {3, 0, 1}};
+  const float alpha[4] = {0.0f, float(128 * (1.0 / 255)), 1.0f, 1.0f};
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 3; ++x) {
+      const int i = index[y][x];
+      for (int c = 0; c < 3; ++c) CHECK(pal->at(x, y, c) == float(plte[size_t(3 * i + c)]));
+      CHECK(pal->at(x, y, 3) == alpha[i]);
+    }
+  // 1-bit grey: 0 and 1 become 0 and 255.
+  auto grey = DecodeRaster(MakePng(3, 1, 1, 0, 0, {0, 0b10100000}), "bits.png");
+  REQUIRE_OK(grey);
+  REQUIRE(grey->channels == 1);
+  CHECK(grey->data == std::vector<float>{255, 0, 255});
+  // Adam7: a 5 x 5 RGB image interlaced reads as the same image stored plainly.
+  std::vector<uint8_t> pixel(5 * 5 * 3);
+  for (size_t i = 0; i < pixel.size(); ++i) pixel[i] = uint8_t(i * 37 % 251);
+  std::vector<uint8_t> plain, adam7;
+  for (int y = 0; y < 5; ++y) {
+    plain.push_back(0);
+    plain.insert(plain.end(), pixel.begin() + y * 15, pixel.begin() + (y + 1) * 15);
+  }
+  const int passes[7][4] = {{0, 0, 8, 8}, {4, 0, 8, 8}, {0, 4, 4, 8}, {2, 0, 4, 4}, {0, 2, 2, 4}, {1, 0, 2, 2}, {0, 1, 1, 2}};
+  for (const auto& p : passes) {
+    if (p[0] >= 5) continue;  // an empty pass has no scanlines
+    for (int y = p[1]; y < 5; y += p[3]) {
+      adam7.push_back(0);
+      for (int x = p[0]; x < 5; x += p[2]) adam7.insert(adam7.end(), pixel.begin() + (y * 5 + x) * 3, pixel.begin() + (y * 5 + x + 1) * 3);
+    }
+  }
+  auto a = DecodeRaster(MakePng(5, 5, 8, 2, 0, plain), "plain.png");
+  auto b = DecodeRaster(MakePng(5, 5, 8, 2, 1, adam7), "adam7.png");
+  REQUIRE_OK(a);
+  REQUIRE_OK(b);
+  CHECK(a->data == b->data);
+  CHECK(a->at(4, 4, 2) == float(pixel[74]));
+  // eXIf orientation 6 (rotate 90 clockwise): 3 x 2 -> 2 x 3, the bottom-left pixel first.
+  std::vector<uint8_t> exif = {'M', 'M', 0, 42, 0, 0, 0, 8, 0, 1, 0x01, 0x12, 0, 3, 0, 0, 0, 1, 0, 6, 0, 0, 0, 0, 0, 0};
+  const std::vector<uint8_t> raw_rgb = {0, 1, 1, 1, 2, 2, 2, 3, 3, 3, 0, 4, 4, 4, 5, 5, 5, 6, 6, 6};
+  auto turned = DecodeRaster(MakePng(3, 2, 8, 2, 0, raw_rgb, {PngChunk("eXIf", exif)}), "turned.png", &source);
+  REQUIRE_OK(turned);
+  CHECK(source.orientation == 6);
+  REQUIRE(turned->width == 2);
+  REQUIRE(turned->height == 3);
+  CHECK(turned->at(0, 0, 0) == 4.0f);
+  CHECK(turned->at(1, 0, 0) == 1.0f);
+  // Cut short in the pixel data: truncated, never a partial image.
+  std::vector<uint8_t> cut = MakePng(5, 5, 8, 2, 0, plain);
+  cut.resize(cut.size() - 30);
+  CHECK(DecodeRaster(cut, "cut.png").status().code() == StatusCode::kTruncated);
+}
+
 TEST_CASE("Written PNGs keep the raster's channels and carry an sRGB chunk", "[raster_input]") {
   // PNG colour types: 0 grey, 4 grey+alpha, 2 RGB, 6 RGBA.
   const int types[5] = {-1, 0, 4, 2, 6};

@@ -25,6 +25,8 @@
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 
+#include "samples.h"
+
 namespace sdvi::raster_internal {
 namespace {
 
@@ -214,12 +216,12 @@ StatusOr<Raster> ReadPixels(OIIO::ImageInput& in, const std::string& name, OiioD
     float* d = &out.data[p * out.channels];
     if (read_type == OIIO::TypeDesc::UINT8) {
       const uint8_t* s = &buffer[p * nch];
-      for (int c = 0; c < colours; ++c) d[c] = float(s[pick.colour[c]]);
-      if (pick.alpha >= 0) d[colours] = float(s[pick.alpha] * (1.0 / 255));
+      for (int c = 0; c < colours; ++c) d[c] = ColourOf8(s[pick.colour[c]]);
+      if (pick.alpha >= 0) d[colours] = AlphaOf8(s[pick.alpha]);
     } else if (read_type == OIIO::TypeDesc::UINT16) {
       const uint16_t* s = reinterpret_cast<const uint16_t*>(buffer.data()) + p * nch;
-      for (int c = 0; c < colours; ++c) d[c] = float(s[pick.colour[c]] * (255.0 / 65535.0));
-      if (pick.alpha >= 0) d[colours] = float(s[pick.alpha] * (1.0 / 65535));
+      for (int c = 0; c < colours; ++c) d[c] = ColourOf16(s[pick.colour[c]]);
+      if (pick.alpha >= 0) d[colours] = AlphaOf16(s[pick.alpha]);
     } else {
       const float* s = reinterpret_cast<const float*>(buffer.data()) + p * nch;
       double a = pick.alpha >= 0 ? double(s[pick.alpha]) : 1.0;

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The OpenImageIO side of sdvi_raster_io, built as its own loadable module
-// (libsdvi_raster_oiio.so) and opened on the first raster decode, so that
-// commands which never read a raster do not load OpenImageIO and the ~260 shared libraries
-// it needs (spec/RASTER_INPUT.md, "Loading"). Internal: the module and the loader are built
+// (libsdvi_raster_oiio.so) and opened on the first decode of a raster that is not a PNG
+// (png_reader.h), so that commands which read and write only PNGs do not load OpenImageIO
+// and the ~260 shared libraries it needs (spec/RASTER_INPUT.md, "Loading"). Internal: the module and the loader are built
 // from the same tree, and kOiioModuleAbi changes whenever this table does.
 #pragma once
 

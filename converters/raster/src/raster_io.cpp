@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <new>
@@ -21,6 +22,7 @@
 
 #include "icc_profile.h"
 #include "oiio_module.h"
+#include "png_reader.h"
 #include "png_writer.h"
 #include "sdvi/file_util.h"
 
@@ -181,7 +183,20 @@ class CapturedStderr {
 
 }  // namespace
 
-Status OpenRasterCodecs() { return Oiio(StatusCode::kDecodeFailed, "raster input").status(); }
+Status OpenRasterCodecs(const std::vector<std::string>& paths) {
+  for (const std::string& path : paths) {
+    if (path == "-") return Oiio(StatusCode::kDecodeFailed, "raster input").status();
+    std::FILE* file = std::fopen(path.c_str(), "rb");
+    if (!file) continue;  // its decode reports it
+    const bool png = raster_internal::DecodesWithLibpng([file](uint64_t at, size_t n, uint8_t* out) {
+      return at <= uint64_t(std::numeric_limits<long>::max()) && std::fseek(file, long(at), SEEK_SET) == 0 &&
+             std::fread(out, 1, n, file) == n;
+    });
+    std::fclose(file);
+    if (!png) return Oiio(StatusCode::kDecodeFailed, "raster input").status();
+  }
+  return Status::Ok();
+}
 
 // DecodeRaster's work, while standard error is captured.
 static StatusOr<Raster> DecodeCaptured(const std::vector<uint8_t>& bytes, const std::string& name,
@@ -208,9 +223,16 @@ StatusOr<Raster> DecodeRaster(const std::vector<uint8_t>& bytes, const std::stri
 static StatusOr<Raster> DecodeCaptured(const std::vector<uint8_t>& bytes, const std::string& name,
                                        const RasterLimits& limits, RasterSource* source_out) {
   try {
-    SDVI_ASSIGN_OR_RETURN(const OiioModule* oiio, Oiio(StatusCode::kDecodeFailed, name));
+    // PNGs with libpng (no module to load), unless an eXIf chunk asks for OpenImageIO.
+    const uint64_t max_pixels = std::min(kMaxPixels, limits.max_pixels);
+    const bool png = raster_internal::DecodesWithLibpng(bytes);
+    const OiioModule* oiio = nullptr;
+    if (!png) {
+      SDVI_ASSIGN_OR_RETURN(oiio, Oiio(StatusCode::kDecodeFailed, name));
+    }
     SDVI_ASSIGN_OR_RETURN(raster_internal::OiioDecoded decoded,
-                          oiio->decode(bytes, name, std::min(kMaxPixels, limits.max_pixels)));
+                          png ? raster_internal::DecodePngWithLibpng(bytes, name, max_pixels)
+                              : oiio->decode(bytes, name, max_pixels));
     RasterSource source;
     source.format = decoded.format;
     source.file_channels = decoded.file_channels;
@@ -219,7 +241,7 @@ static StatusOr<Raster> DecodeCaptured(const std::vector<uint8_t>& bytes, const 
     source.orientation = decoded.orientation;
     Raster raster = std::move(decoded.raster);
     ApplyIccProfile(decoded.icc_profile, raster, name, source);
-    if (source.orientation != 1) {
+    if (source.orientation != 1) {  // only OpenImageIO's decoders read an orientation
       SDVI_ASSIGN_OR_RETURN(raster, oiio->reorient(raster, source.orientation, name));
     }
     raster = DropAlphaOfOpaqueGif(std::move(raster), source.format);

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Raster image files: PNG, JPEG, TIFF, BMP, GIF, WebP, PNM, TGA, OpenEXR and Radiance HDR in;
-// PNG (8/16-bit, sRGB-tagged) out. The raster module owns this header and may add declarations.
+// PNG (8/16-bit, sRGB-tagged) out. PNGs are read and written with libpng, the other formats
+// read with OpenImageIO. The raster module owns this header and may add declarations.
 //
 // What a loaded raster is (spec/RASTER_INPUT.md has the details and the reasons):
 //   - upright: the EXIF/TIFF orientation tag is applied (a camera JPEG tagged "rotate 90"
@@ -44,13 +45,16 @@ struct RasterSource {
 // header before decoding). source, when given, receives what was found.
 StatusOr<Raster> LoadRaster(const std::string& path, RasterSource* source = nullptr);
 
-// Opens the raster decoders and encoders now: the OpenImageIO module and the libraries it
-// loads (spec/RASTER_INPUT.md "Loading"), otherwise opened on the first decode (PNGs are written with libpng).
-// A program that limits its own address space (`sdvi --max-memory`) calls it before setting
-// the limit: mapping those libraries needs address space of its own, and one of them
-// (log4cplus) hangs in its start-up when a thread it starts is refused. Opens once per
-// process; the error is the one a decode would return (kDecodeFailed).
-Status OpenRasterCodecs();
+// Opens now the raster decoders that decoding the files at paths will need: the OpenImageIO
+// module and the libraries it loads (spec/RASTER_INPUT.md "Loading"), otherwise opened on
+// the first decode of a file that is not a PNG libpng reads. Nothing is opened when every
+// path is such a PNG (or cannot be read: its decode reports that); standard input ("-")
+// may hold anything. A program that limits its own address space (`sdvi --max-memory`)
+// calls it before setting the limit: mapping those libraries needs address space of its
+// own, and one of them (log4cplus) hangs in its start-up when a thread it starts is
+// refused. Opens once per process; the error is the one a decode would return
+// (kDecodeFailed).
+Status OpenRasterCodecs(const std::vector<std::string>& paths);
 
 // The same for bytes already in memory (stdin); name is used in messages and, when it has
 // an extension, as the decoder's hint.
