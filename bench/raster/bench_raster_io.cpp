@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // bench_raster_io [DATA_DIR] (default ../shared/data): why sdvi_raster_io reads images with
-// OpenImageIO rather than OpenCV imgcodecs (spec/RASTER_INPUT.md).
+// OpenImageIO (and PNGs with libpng) rather than OpenCV imgcodecs (spec/RASTER_INPUT.md).
 //   Table 1, per image of DATA_DIR/photos, graphics and large: load time (best of 3, from
 //   memory, into the float sdvi::Raster) of cv::imdecode(IMREAD_UNCHANGED) plus the
-//   conversion sdvi did before, and of sdvi::DecodeRaster (OpenImageIO plus conversion,
-//   orientation and colour management), the ratio, and the largest sample difference
+//   conversion sdvi did before, and of sdvi::DecodeRaster (libpng for PNGs, OpenImageIO for
+//   the rest, plus conversion, orientation and colour management), the ratio, and the largest sample difference
 //   between the two (0: the same decoder underneath; ICC-tagged files differ by design).
 //   Table 2, what each reads of inputs written here with OpenImageIO: an EXIF orientation
 //   6 JPEG (upright?), a GIF, an OpenEXR and a Radiance HDR file, an ICC profile.
@@ -109,7 +109,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   std::printf("Table 1: load from memory into sdvi::Raster, best of 3 (ms)\n");
-  std::printf("%-40s %11s %9s %9s %6s %9s\n", "image", "size", "opencv", "sdvi/oiio", "ratio", "max diff");
+  std::printf("%-40s %11s %9s %9s %6s %9s\n", "image", "size", "opencv", "sdvi", "ratio", "max diff");
   double sum_cv = 0, sum_oiio = 0, worst = 0;
   for (const fs::path& path : files) {
     auto bytes = sdvi::ReadFileBytes(path.string());
@@ -135,7 +135,7 @@ int main(int argc, char** argv) {
   std::printf("%-40s %11s %9.1f %9.1f %6.2f %9.3f\n\n", "total", "", sum_cv, sum_oiio, sum_oiio / sum_cv, worst);
 
   std::printf("Table 2: what each reads (inputs written here with OpenImageIO)\n");
-  std::printf("%-34s %-26s %-26s\n", "input", "opencv IMREAD_UNCHANGED", "sdvi (OpenImageIO)");
+  std::printf("%-34s %-26s %-26s\n", "input", "opencv IMREAD_UNCHANGED", "sdvi");
   struct Case {
     const char* label;
     std::vector<uint8_t> bytes;
