@@ -179,7 +179,7 @@ StatusOr<ChannelPick> PickChannels(const OIIO::ImageSpec& spec, const std::strin
 }
 
 // Decodes the first subimage of an opened input into the raster's layout and scale.
-StatusOr<Raster> ReadPixels(OIIO::ImageInput& in, const std::string& name, OiioDecoded& source) {
+StatusOr<Raster> ReadPixels(OIIO::ImageInput& in, const std::string& name, DecodedImage& source) {
   const OIIO::ImageSpec spec = in.spec();
   SDVI_ASSIGN_OR_RETURN(ChannelPick pick, PickChannels(spec, name));
   const OIIO::TypeDesc type = spec.format;
@@ -255,7 +255,7 @@ StatusOr<Raster> Reorient(const Raster& raster, int orientation, const std::stri
   return out;
 }
 
-StatusOr<OiioDecoded> Decode(const std::vector<uint8_t>& bytes, const std::string& name, uint64_t max_pixels) {
+StatusOr<DecodedImage> Decode(const std::vector<uint8_t>& bytes, const std::string& name, uint64_t max_pixels) {
   try {
     // The bytes are read through an IOProxy; with a config, OpenImageIO 2.4 takes the proxy
     // from the config's "oiio:ioproxy" (a pointer to the proxy pointer) as well.
@@ -265,7 +265,7 @@ StatusOr<OiioDecoded> Decode(const std::vector<uint8_t>& bytes, const std::strin
     config.attribute("oiio:UnassociatedAlpha", 1);  // keep PNG/TIFF alpha straight, as stored
     config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
     SDVI_ASSIGN_OR_RETURN(std::unique_ptr<OIIO::ImageInput> in, OpenWithReaders(reader, config, name));
-    OiioDecoded out;
+    DecodedImage out;
     out.format = in->format_name();
     if (out.format == "bmp") SDVI_RETURN_IF_ERROR(CheckBmpCompression(bytes, name));
     const OIIO::ImageSpec& spec = in->spec();
@@ -303,6 +303,6 @@ StatusOr<Raster> ReorientCaught(const Raster& raster, int orientation, const std
 
 extern "C" const sdvi::raster_internal::OiioModule* sdvi_raster_oiio_module() {
   using namespace sdvi::raster_internal;
-  static const OiioModule kModule = {kOiioModuleAbi, uint32_t(sizeof(OiioDecoded)), Decode, ReorientCaught};
+  static const OiioModule kModule = {kOiioModuleAbi, uint32_t(sizeof(DecodedImage)), Decode, ReorientCaught};
   return &kModule;
 }

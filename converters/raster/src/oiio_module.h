@@ -17,8 +17,9 @@ namespace sdvi::raster_internal {
 
 inline constexpr uint32_t kOiioModuleAbi = 2;
 
-// A decoded image before ICC conversion and orientation (the loader applies both).
-struct OiioDecoded {
+// A decoded image before ICC conversion and orientation (the loader applies both), from the
+// module or from the libpng reader (png_reader.h).
+struct DecodedImage {
   Raster raster;
   std::string format;                // the decoder's name: "png", "jpeg", "openexr", ...
   int file_channels = 0;
@@ -30,10 +31,10 @@ struct OiioDecoded {
 
 struct OiioModule {
   uint32_t abi;
-  uint32_t sizeof_decoded;  // sizeof(OiioDecoded) where the module was built
+  uint32_t sizeof_decoded;  // sizeof(DecodedImage) where the module was built
   // The first subimage of an encoded file in memory; max_pixels bounds width x height
   // before any pixel is decoded.
-  StatusOr<OiioDecoded> (*decode)(const std::vector<uint8_t>& bytes, const std::string& name, uint64_t max_pixels);
+  StatusOr<DecodedImage> (*decode)(const std::vector<uint8_t>& bytes, const std::string& name, uint64_t max_pixels);
   // raster turned upright for an EXIF/TIFF orientation of 2..8.
   StatusOr<Raster> (*reorient)(const Raster& raster, int orientation, const std::string& name);
 };

@@ -26,7 +26,7 @@ struct PngReadState {
   bool reading_pixels = false;   // past the header
   std::vector<uint8_t> samples;  // the image, rows of interleaved 8- or 16-bit samples
   std::vector<png_bytep> rows;
-  OiioDecoded out;
+  DecodedImage out;
 };
 
 void ReadBytes(png_structp png, png_bytep data, size_t length) {
@@ -41,7 +41,7 @@ void ReadBytes(png_structp png, png_bytep data, size_t length) {
 
 }  // namespace
 
-StatusOr<OiioDecoded> DecodePngWithLibpng(const std::vector<uint8_t>& bytes, const std::string& name,
+StatusOr<DecodedImage> DecodePngWithLibpng(const std::vector<uint8_t>& bytes, const std::string& name,
                                           uint64_t max_pixels) {
   // Every C++ object is made before the setjmp below: a libpng error jumps back over the
   // frames between, which then hold none.
@@ -81,7 +81,7 @@ StatusOr<OiioDecoded> DecodePngWithLibpng(const std::vector<uint8_t>& bytes, con
                                                   " pixels is over the limit of " + std::to_string(max_pixels));
   }
   const size_t row_bytes = png_get_rowbytes(png, info);
-  OiioDecoded& out = state->out;
+  DecodedImage& out = state->out;
   out.format = "png";
   out.file_channels = channels;
   out.bits = bits;

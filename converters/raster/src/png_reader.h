@@ -24,10 +24,12 @@ bool DecodesWithLibpng(Read&& read) {
   uint8_t head[16];
   if (!read(0, 16, head) || !std::equal(kSignature, kSignature + 8, head) || std::memcmp(head + 12, "IHDR", 4) != 0)
     return false;
-  // The chunks (length, type, data, CRC), as far as the file holds them.
-  for (uint64_t at = 8; read(at, 8, head);) {
+  // The chunks (length, type, data, CRC), as far as the file holds them; a file of more than
+  // a million chunks (a real PNG has tens to thousands) goes to OpenImageIO unread.
+  uint64_t at = 8;
+  for (int chunks = 0; read(at, 8, head); ++chunks) {
     const uint64_t length = (uint64_t(head[0]) << 24) | (uint64_t(head[1]) << 16) | (uint64_t(head[2]) << 8) | head[3];
-    if (std::memcmp(head + 4, "eXIf", 4) == 0) return false;
+    if (std::memcmp(head + 4, "eXIf", 4) == 0 || chunks == (1 << 20)) return false;
     if (std::memcmp(head + 4, "IEND", 4) == 0) break;
     at += 12 + length;
   }
@@ -48,7 +50,7 @@ inline bool DecodesWithLibpng(const std::vector<uint8_t>& bytes) {
 // straight; its ICC profile's bytes. Errors name name: kLimitExceeded (over max_pixels,
 // from the header), kTruncated (the data ends early), kDecodeFailed. libpng's own words go
 // to standard error, which the caller captures (raster_io.cpp, CapturedStderr).
-StatusOr<OiioDecoded> DecodePngWithLibpng(const std::vector<uint8_t>& bytes, const std::string& name,
+StatusOr<DecodedImage> DecodePngWithLibpng(const std::vector<uint8_t>& bytes, const std::string& name,
                                           uint64_t max_pixels);
 
 }  // namespace sdvi::raster_internal

@@ -58,7 +58,7 @@ const OiioModule* OpenOiioModule(std::string* why) {
     const char* error = handle ? nullptr : ::dlerror();
     auto entry = handle ? reinterpret_cast<const OiioModule* (*)()>(::dlsym(handle, "sdvi_raster_oiio_module")) : nullptr;
     const OiioModule* module = entry ? entry() : nullptr;
-    if (module && module->abi == kOiioModuleAbi && module->sizeof_decoded == sizeof(raster_internal::OiioDecoded))
+    if (module && module->abi == kOiioModuleAbi && module->sizeof_decoded == sizeof(raster_internal::DecodedImage))
       return module;  // stays open for the life of the process
     tried += (tried.empty() ? "" : "; ") + path + (error ? std::string(": ") + error : ": built for another sdvi");
     if (handle) ::dlclose(handle);
@@ -230,7 +230,7 @@ static StatusOr<Raster> DecodeCaptured(const std::vector<uint8_t>& bytes, const 
     if (!png) {
       SDVI_ASSIGN_OR_RETURN(oiio, Oiio(StatusCode::kDecodeFailed, name));
     }
-    SDVI_ASSIGN_OR_RETURN(raster_internal::OiioDecoded decoded,
+    SDVI_ASSIGN_OR_RETURN(raster_internal::DecodedImage decoded,
                           png ? raster_internal::DecodePngWithLibpng(bytes, name, max_pixels)
                               : oiio->decode(bytes, name, max_pixels));
     RasterSource source;
