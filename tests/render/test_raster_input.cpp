@@ -516,6 +516,35 @@ TEST_CASE("A BMP with 24 bits a pixel that says RLE8 is a clear error, not a cra
   }
 }
 
+TEST_CASE("A BMP's size is checked on its header before OpenImageIO opens it, whatever its name", "[raster_input]") {
+  // OpenImageIO 2.4 decodes an RLE BMP whole while opening it: a 108-byte file declaring
+  // 5 x 419430406 pixels (fuzz.raster) made it fill 2 GB before sdvi saw the size. Named
+  // .tga (so the BMP reader is not the first tried) and declaring RLE8 at 8 bits.
+  for (const int32_t height : {419430406, -419430406}) {
+    std::array<uint8_t, 108> bmp{};
+    const uint32_t h = uint32_t(height);
+    const uint8_t header[] = {'B', 'M', uint8_t(bmp.size()), 0, 0, 0, 0, 0, 0, 0, 54, 0, 0, 0, 40, 0, 0, 0,
+                              5, 0, 0, 0, uint8_t(h), uint8_t(h >> 8), uint8_t(h >> 16), uint8_t(h >> 24),
+                              1, 0, 8, 0, 1, 0, 0, 0};
+    std::copy(std::begin(header), std::end(header), bmp.begin());
+    std::fill(bmp.begin() + 54, bmp.end(), uint8_t(0xff));
+    INFO("height " << height);
+    auto out = DecodeRaster(std::vector<uint8_t>(bmp.begin(), bmp.end()), "tall.tga");
+    REQUIRE_FALSE(out.ok());
+    CHECK(out.status().code() == StatusCode::kLimitExceeded);
+    CHECK(out.status().message() == "tall.tga: 5x419430406 pixels is over the limit of 268435456");
+  }
+  // A 24-bit RLE8 header is refused before opening too: the words name the damage, not
+  // "none of PNG, JPEG, ..." after every reader failed.
+  std::array<uint8_t, 108> bmp{};
+  const uint8_t header[] = {'B', 'M', 108, 0, 0, 0, 0, 0, 0, 0, 54, 0, 0, 0, 40, 0, 0, 0,
+                            5, 0, 0, 0, 6, 0, 0, 0x19, 1, 0, 24, 0, 1, 0, 0, 0};
+  std::copy(std::begin(header), std::end(header), bmp.begin());
+  auto out = DecodeRaster(std::vector<uint8_t>(bmp.begin(), bmp.end()), "fuzzed.bmp");
+  REQUIRE_FALSE(out.ok());
+  CHECK(out.status().message() == "fuzzed.bmp: damaged BMP header: RLE8 compression with 24 bits a pixel (RLE8 needs 8)");
+}
+
 TEST_CASE("Only the listed formats are read: an SGI file is refused by extension or content", "[raster_input]") {
   // A 4x3 grey SGI image (verbatim storage, 1 byte a sample), byte by byte: OpenImageIO 2.4
   // reads it, and before sdvi chose its readers it was decoded under any name.

@@ -54,29 +54,6 @@ class BoundedMemReader final : public OIIO::Filesystem::IOMemReader {
   }
 };
 
-// OpenImageIO 2.4's BMP reader looks RLE-compressed pixels up in the colour table without
-// checking that there is one: a BMP with 24 bits a pixel that says RLE8 made it read before
-// a null pointer (a crash, found by fuzz.raster). The BMP format pairs RLE8 with 8 bits a
-// pixel and RLE4 with 4 (the only depths with a colour table to look up), so any other pairing
-// is a damaged header, refused here before the pixels are read.
-Status CheckBmpCompression(const std::vector<uint8_t>& bytes, const std::string& name) {
-  auto le = [&](size_t at, int n) {
-    uint32_t v = 0;
-    for (int i = n - 1; i >= 0; --i) v = v << 8 | bytes[at + size_t(i)];
-    return v;
-  };
-  // BITMAPINFOHEADER and later (40 bytes and up) carry biCompression at 30; the OS/2 header
-  // of 12 bytes has none.
-  if (bytes.size() < 34 || le(14, 4) < 40) return Status::Ok();
-  const uint32_t bits = le(28, 2), compression = le(30, 4);
-  const uint32_t needs = compression == 1 ? 8 : compression == 2 ? 4 : bits;
-  if (bits == needs) return Status::Ok();
-  return Status(StatusCode::kDecodeFailed, name + ": damaged BMP header: RLE" + std::to_string(needs) +
-                                               " compression with " + std::to_string(bits) +
-                                               " bits a pixel (RLE" + std::to_string(needs) + " needs " +
-                                               std::to_string(needs) + ")");
-}
-
 // The readers sdvi uses (the formats of spec/RASTER_INPUT.md), in the order they are tried on
 // bytes the extension's reader refuses or whose extension names none of them; TGA last, as
 // it has no signature. OpenImageIO 2.4 carries 28 readers and, when the extension's reader
@@ -267,7 +244,6 @@ StatusOr<DecodedImage> Decode(const std::vector<uint8_t>& bytes, const std::stri
     SDVI_ASSIGN_OR_RETURN(std::unique_ptr<OIIO::ImageInput> in, OpenWithReaders(reader, config, name));
     DecodedImage out;
     out.format = in->format_name();
-    if (out.format == "bmp") SDVI_RETURN_IF_ERROR(CheckBmpCompression(bytes, name));
     const OIIO::ImageSpec& spec = in->spec();
     if (spec.width <= 0 || spec.height <= 0)
       return Status(StatusCode::kEmptyInput, name + ": the header says " + SizeText(spec.width, spec.height));
