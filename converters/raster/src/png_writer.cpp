@@ -3,6 +3,7 @@
 #include "png_writer.h"
 
 #include <png.h>
+#include <zlib.h>
 
 #include <bit>
 #include <csetjmp>
@@ -46,7 +47,7 @@ void IgnoreWarning(png_structp, png_const_charp) {}
 }  // namespace
 
 StatusOr<std::vector<uint8_t>> EncodePngWithLibpng(int width, int height, int channels, int bits, const void* samples,
-                                                   int compression_level, const std::string& name) {
+                                                   const std::string& name) {
   const int colour_type = channels == 1   ? PNG_COLOR_TYPE_GRAY
                           : channels == 2 ? PNG_COLOR_TYPE_GRAY_ALPHA
                           : channels == 3 ? PNG_COLOR_TYPE_RGB
@@ -77,7 +78,13 @@ StatusOr<std::vector<uint8_t>> EncodePngWithLibpng(int width, int height, int ch
     return Status(StatusCode::kEncodeFailed, name + ": PNG encoding failed: " + state->error);
   }
   png_set_write_fn(png, state.get(), AppendBytes, FlushNothing);
-  png_set_compression_level(png, compression_level);
+  // Every row predicted from the one above (filter Up) and deflated as runs (zlib's Z_RLE,
+  // which has no levels): a render is smooth from row to row. Against what sdvi wrote before
+  // (libpng's five filters tried on each row, zlib level 1) on a 4096 x 4096 RGB render of
+  // Lena (x8), a 512 x 512 one (x1) and a 1024 x 1024 RGBA icon (x4): 1.8x, 2.1x and 3.5x
+  // faster to encode, 16%, 6% and 72% smaller (spec/RASTER_INPUT.md, "Written PNGs").
+  png_set_filter(png, 0, PNG_FILTER_UP);
+  png_set_compression_strategy(png, Z_RLE);
   png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), bits, colour_type, PNG_INTERLACE_NONE,
                PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   // The sRGB chunk with the gAMA and cHRM values the PNG specification pairs with it.

@@ -14,8 +14,8 @@ namespace sdvi::raster_internal {
 
 // The PNG of width x height pixels of channels (1 grey, 2 grey + alpha, 3 RGB, 4 RGBA)
 // interleaved samples of bits (8, or 16 in the machine's byte order), straight alpha, tagged
-// sRGB, deflated at compression_level (zlib 0..9). Errors: kEncodeFailed naming name.
+// sRGB, rows filtered Up and deflated as runs. Errors: kEncodeFailed naming name.
 StatusOr<std::vector<uint8_t>> EncodePngWithLibpng(int width, int height, int channels, int bits, const void* samples,
-                                                   int compression_level, const std::string& name);
+                                                   const std::string& name);
 
 }  // namespace sdvi::raster_internal

@@ -73,9 +73,9 @@ StatusOr<Raster> DecodeRaster(const std::vector<uint8_t>& bytes, const std::stri
 
 // Encodes a PNG (bits 8 or 16) with the raster's channels (grey, grey+alpha, RGB, RGBA),
 // colours clamped to 0..255 and rounded, alpha to 0..1; tagged sRGB (sRGB chunk, with the
-// gAMA and cHRM chunks the PNG specification pairs with it), deflated at zlib level 1 (fast,
-// as OpenCV's imwrite; recompress with a PNG optimiser for the smallest file). Deterministic
-// bytes.
+// gAMA and cHRM chunks the PNG specification pairs with it), rows filtered Up and deflated
+// as runs (fast, and small for renders; recompress with a PNG optimiser for the smallest
+// file). Deterministic bytes.
 StatusOr<std::vector<uint8_t>> EncodePng(const Raster& raster, int bits = 8, const std::string& name = "PNG");
 
 // An 8-bit PNG of samples already quantised (the 8-bit render, sdvi::Render8): the same
