@@ -14,21 +14,29 @@
 
 namespace sdvi::raster_internal {
 
+inline uint32_t BigEndian32(const uint8_t* p) {
+  return (uint32_t(p[0]) << 24) | (uint32_t(p[1]) << 16) | (uint32_t(p[2]) << 8) | p[3];
+}
+
+// Whether the first 16 bytes of a file are the PNG signature and an IHDR chunk's length and type.
+inline bool StartsAsPng(const uint8_t* head) {
+  static const uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', 0x0d, 0x0a, 0x1a, 0x0a};
+  return std::equal(kSignature, kSignature + 8, head) && std::memcmp(head + 12, "IHDR", 4) == 0;
+}
+
 // Whether a file is a PNG that DecodePngWithLibpng reads as OpenImageIO's PNG reader would:
 // the signature and an IHDR first, and no eXIf chunk before IEND (an EXIF orientation is
 // OpenImageIO's to read and apply). read(offset, n, out) copies n bytes at offset into out,
 // false past the end; the chunks' headers alone are read.
 template <typename Read>
 bool DecodesWithLibpng(Read&& read) {
-  static const uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', 0x0d, 0x0a, 0x1a, 0x0a};
   uint8_t head[16];
-  if (!read(0, 16, head) || !std::equal(kSignature, kSignature + 8, head) || std::memcmp(head + 12, "IHDR", 4) != 0)
-    return false;
+  if (!read(0, 16, head) || !StartsAsPng(head)) return false;
   // The chunks (length, type, data, CRC), as far as the file holds them; a file of more than
   // a million chunks (a real PNG has tens to thousands) goes to OpenImageIO unread.
   uint64_t at = 8;
   for (int chunks = 0; read(at, 8, head); ++chunks) {
-    const uint64_t length = (uint64_t(head[0]) << 24) | (uint64_t(head[1]) << 16) | (uint64_t(head[2]) << 8) | head[3];
+    const uint64_t length = BigEndian32(head);
     if (std::memcmp(head + 4, "eXIf", 4) == 0 || chunks == (1 << 20)) return false;
     if (std::memcmp(head + 4, "IEND", 4) == 0) break;
     at += 12 + length;

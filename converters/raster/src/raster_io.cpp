@@ -88,19 +88,10 @@ constexpr uint64_t kMaxPixels = uint64_t(1) << 28;  // 16384 x 16384
 
 std::string SizeText(int64_t w, int64_t h) { return std::to_string(w) + "x" + std::to_string(h); }
 
-bool IsPng(const std::vector<uint8_t>& b) {
-  static const uint8_t kSig[8] = {0x89, 'P', 'N', 'G', 0x0d, 0x0a, 0x1a, 0x0a};
-  return b.size() >= 33 && std::equal(kSig, kSig + 8, b.begin()) && b[12] == 'I' && b[13] == 'H' &&
-         b[14] == 'D' && b[15] == 'R';
-}
-uint32_t BigEndian32(const uint8_t* p) {
-  return (uint32_t(p[0]) << 24) | (uint32_t(p[1]) << 16) | (uint32_t(p[2]) << 8) | p[3];
-}
-
 // A PNG's size from its IHDR, before libpng sees the file: empty or over the limit.
 Status CheckPngHeader(const std::vector<uint8_t>& bytes, const std::string& name) {
-  if (!IsPng(bytes)) return Status::Ok();
-  const uint64_t w = BigEndian32(&bytes[16]), h = BigEndian32(&bytes[20]);
+  if (bytes.size() < 33 || !raster_internal::StartsAsPng(bytes.data())) return Status::Ok();
+  const uint64_t w = raster_internal::BigEndian32(&bytes[16]), h = raster_internal::BigEndian32(&bytes[20]);
   if (w == 0 || h == 0) return Status(StatusCode::kEmptyInput, name + ": PNG header says " + SizeText(w, h));
   if (w * h > kMaxPixels)
     return Status(StatusCode::kLimitExceeded, name + ": " + SizeText(w, h) + " pixels is over the limit of 2^28");
@@ -304,12 +295,6 @@ StatusOr<Raster> LoadRaster(const std::string& path, RasterSource* source) {
 
 namespace {
 
-// The PNG of samples (8- or 16-bit, interleaved, channels as the raster has them).
-StatusOr<std::vector<uint8_t>> EncodePngSamples(int width, int height, int ch, int bits, const void* data,
-                                                const std::string& name) {
-  return raster_internal::EncodePngWithLibpng(width, height, ch, bits, data, name);
-}
-
 // Which channels an output needs (see WithNeededChannels): alpha unless every pixel is
 // opaque, and colour unless every pixel is grey.
 struct NeededChannels {
@@ -377,12 +362,12 @@ StatusOr<std::vector<uint8_t>> EncodePng(const Raster& raster, int bits, const s
       wide[i] = uint16_t(q);
   }
   const void* data = bits == 8 ? static_cast<const void*>(narrow.data()) : static_cast<const void*>(wide.data());
-  return EncodePngSamples(raster.width, raster.height, ch, bits, data, name);
+  return raster_internal::EncodePngWithLibpng(raster.width, raster.height, ch, bits, data, name);
 }
 
 StatusOr<std::vector<uint8_t>> EncodePng(const Raster8& raster, const std::string& name) {
   SDVI_RETURN_IF_ERROR(CheckRasterToEncode(raster.width, raster.height, raster.channels, raster.data.size(), name));
-  return EncodePngSamples(raster.width, raster.height, raster.channels, 8, raster.data.data(), name);
+  return raster_internal::EncodePngWithLibpng(raster.width, raster.height, raster.channels, 8, raster.data.data(), name);
 }
 
 Status SaveRasterPng(const std::string& path, const Raster& raster, int bits) {
