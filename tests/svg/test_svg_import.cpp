@@ -295,12 +295,13 @@ TEST_CASE("svg artwork: a 1 px stroke is one thin feature, sharp on both sides",
       }
     }
   }
-  // The circle's top and bottom: 17 levels (the flips' exact pixel partition left 16.2 at
-  // (40, 30), from 13.0; the line's rows above are unchanged).
+  // The circle's top and bottom: 18 levels (the flips' exact pixel partition left 16.2 at
+  // (40, 30), from 13.0, the mesher's 10 degree angle bound 17.0 there (spec/METHOD.md
+  // section 6 step 4); the other pixels here within 15, the line's rows above unchanged).
   for (int y : {27, 28, 29, 30, 31, 57, 58, 59, 60, 61}) {
     for (int c = 0; c < 3; ++c) {
       INFO("x 40 y " << y);
-      CHECK(std::fabs(result->vectorized.reconstruction.at(40, y, c) - result->reference.at(40, y, c)) < 17.f);
+      CHECK(std::fabs(result->vectorized.reconstruction.at(40, y, c) - result->reference.at(40, y, c)) < 18.f);
     }
   }
 }

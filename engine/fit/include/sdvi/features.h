@@ -113,7 +113,7 @@ struct ControlMeshOptions {
   float min_distance = 1.0f; // floor on the pair distance, keeps triangles non-degenerate
   bool pairs = true;         // false: one polyline per feature (ablation, paper Fig. 9)
   bool use_sharpness = true; // false: every pair at distance rho (ablation, paper Fig. 14)
-  float min_angle_deg = 20;  // CDT quality bound
+  float min_angle_deg = 10;  // CDT quality bound, deg (paper: 20; spec/METHOD.md 6 step 4)
   float max_edge = 0;        // CDT size bound in px; 0 = max(8, sqrt(width * height) / 12)
   float clearance = 1.0f;    // min distance between different feature polylines (and
                              // from features to the boundary and to interior samples), px
