@@ -88,9 +88,12 @@ constexpr uint64_t kMaxPixels = uint64_t(1) << 28;  // 16384 x 16384
 
 std::string SizeText(int64_t w, int64_t h) { return std::to_string(w) + "x" + std::to_string(h); }
 
+// The bytes of a PNG's signature (8) and its IHDR chunk (length, type, 13 bytes, CRC).
+constexpr size_t kPngHeadBytes = 8 + 8 + 13 + 4;
+
 // A PNG's size from its IHDR, before libpng sees the file: empty or over the limit.
 Status CheckPngHeader(const std::vector<uint8_t>& bytes, const std::string& name) {
-  if (bytes.size() < 33 || !raster_internal::StartsAsPng(bytes.data())) return Status::Ok();
+  if (bytes.size() < kPngHeadBytes || !raster_internal::StartsAsPng(bytes.data())) return Status::Ok();
   const uint64_t w = raster_internal::BigEndian32(&bytes[16]), h = raster_internal::BigEndian32(&bytes[20]);
   if (w == 0 || h == 0) return Status(StatusCode::kEmptyInput, name + ": PNG header says " + SizeText(w, h));
   if (w * h > kMaxPixels)

@@ -92,7 +92,7 @@ struct VectorizeOptions {
   int flip_passes = 16;            // sweeps at most (0: none)
   double flip_min_angle = 1.0;     // deg, smallest angle a flip may create
   FeatureOptions features;         // its `threads` is replaced by `threads` below
-  ControlMeshOptions mesh;        // CDT, 10 degree angle bound (paper: 20; spec/METHOD.md 6 step 4)
+  ControlMeshOptions mesh;        // the CDT (its angle bound: ControlMeshOptions::min_angle_deg)
   ColorFitOptions fit;             // its `threads` is replaced by `threads` below
   int threads = 1;                 // worker threads (features, colour fit assembly, final render)
   Progress* progress = nullptr;    // optional terminal progress (not owned)
