@@ -546,7 +546,7 @@ const SimdKernel* PickSimdKernel(StencilTable::Kernel kernel, int nd) {
 #endif
 
 // Apply starts a thread for each this many weights (at most the hardware's threads).
-constexpr size_t kWeightsPerThread = size_t{1} << 20;
+constexpr size_t kWeightsPerThread = size_t{1} << 18;
 
 // kAuto converts the input only when the table has this many weights a control vertex
 // or more (a region's table refers to all control vertices for few rows).
