@@ -22,7 +22,7 @@ WHICH=${1:-readers}
 CLI_SET="cli_matrix cli_batch cli_conventions"
 case "$WHICH" in
   readers) TESTS="codec fit format render hardening" ;;
-  all) TESTS="cli_matrix svg_export cli_batch cli_conventions codec rate svg fit engine hardening render edit create format pdf cli gltf" ;;
+  all) TESTS="cli_matrix cli_batch cli_conventions codec svg rate fit engine render hardening svg_export edit cli create format pdf gltf" ;;
   cli) TESTS=$CLI_SET ;;
   *) echo "sanitize.sh: unknown set '$WHICH' (readers, all or cli)" >&2; exit 2 ;;
 esac
@@ -80,11 +80,11 @@ job() {  # NAME: runs one executable or one command-line test, its log and rc in
   esac
   echo "$rc $((SECONDS - start))" >"$LOGS/$t.rc"
 }
-# SANITIZE_JOBS run at a time, in the order of TESTS (the longest first, as measured one at
-# a time: cli_matrix 113 s, svg_export 51 s of wall time, most of it the system's,
-# cli_batch 45 s, cli_conventions 37 s, codec 19 s of CPU, rate 18, svg 12, fit 10, the
-# others under 4); each executable in its build directory as under ctest, every case
-# included (the [slow] ones too).
+# SANITIZE_JOBS run at a time, in the order of TESTS (the longest first, as measured in a
+# CI run on 2 cores, two at a time: cli_matrix 347 s, cli_batch 130 s, cli_conventions 93 s,
+# codec 46 s, svg 40, rate 25, fit 24, engine 15, the others under 10; svg_export 4 s since
+# its SVG buffer doubles, 336 s before: spec/SVG_EXPORT.md); each executable in its build
+# directory as under ctest, every case included (the [slow] ones too).
 njobs=${SANITIZE_JOBS:-$(nproc)}
 for t in $TESTS; do
   while [ "$(jobs -pr | wc -l)" -ge "$njobs" ]; do wait -n || true; done

@@ -116,6 +116,9 @@ StatusOr<SvgExport> EncodeSvg(const Image& image, const SvgExportOptions& option
     if (options.progress) options.progress->Phase("writing SVG");
     std::unique_ptr<xmlBuffer, BufferDeleter> buffer(xmlBufferCreate());
     if (!buffer) return Status(StatusCode::kLimitExceeded, "SVG export: out of memory");
+    // Doubling, not libxml2 2.9's default exact growth, which copies the whole document at
+    // every flush of the writer under an allocator whose realloc copies (spec/SVG_EXPORT.md).
+    xmlBufferSetAllocationScheme(buffer.get(), XML_BUFFER_ALLOC_DOUBLEIT);
     std::unique_ptr<xmlTextWriter, WriterDeleter> writer(xmlNewTextWriterMemory(buffer.get(), 0));
     if (!writer) return Status(StatusCode::kEncodeFailed, "SVG export: libxml2 could not start a writer");
     xmlTextWriter* w = writer.get();
