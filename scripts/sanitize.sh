@@ -82,7 +82,7 @@ job() {  # NAME: runs one executable or one command-line test, its log and rc in
 }
 # SANITIZE_JOBS run at a time, in the order of TESTS (the longest first, as measured in a
 # CI run on 2 cores, two at a time: cli_matrix 347 s, cli_batch 130 s, cli_conventions 93 s,
-# codec 46 s, svg 40, rate 25, fit 24, engine 15, the others under 10; svg_export 4 s since
+# codec 46 s, svg 40, rate 25, fit 24, engine 15, the others under 10; svg_export 5-7 s since
 # its SVG buffer doubles, 336 s before: spec/SVG_EXPORT.md); each executable in its build
 # directory as under ctest, every case included (the [slow] ones too).
 njobs=${SANITIZE_JOBS:-$(nproc)}
